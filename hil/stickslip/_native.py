@@ -1,0 +1,208 @@
+"""The one thin binding to the C library (libstickslip): ctypes mirrors of the public structs,
+checked against the library's own sizes at load time. Nothing else in the package touches
+pointers."""
+
+from __future__ import annotations
+
+import ctypes as C
+import os
+from pathlib import Path
+
+import numpy as np
+
+_HERE = Path(__file__).resolve().parent
+
+
+class Status(int):
+    """Status codes of ss_status.h."""
+
+
+SS_OK = 0
+SS_FRICTION_LS = 0
+SS_FRICTION_LUGRE = 1
+SS_WAVE_SAWTOOTH = 0
+SS_WAVE_SAMPLED = 1
+
+
+class FrictionConfig(C.Structure):
+    _fields_ = [
+        ("fs_n", C.c_float),
+        ("fc_n", C.c_float),
+        ("vs_m_per_s", C.c_float),
+        ("sigma0_n_per_m", C.c_float),
+        ("sigma1_ns_per_m", C.c_float),
+        ("sigma2_ns_per_m", C.c_float),
+    ]
+
+
+class ActuatorConfig(C.Structure):
+    _fields_ = [
+        ("piezo_stiffness_n_per_m", C.c_float),
+        ("piezo_damping_kg_per_s", C.c_float),
+        ("rod_mass_kg", C.c_float),
+        ("slider_mass_kg", C.c_float),
+        ("piezo_gain_m_per_v", C.c_float),
+        ("dt_s", C.c_float),
+        ("friction_model", C.c_int32),
+        ("friction", FrictionConfig),
+    ]
+
+
+class WaveformConfig(C.Structure):
+    _fields_ = [
+        ("kind", C.c_int32),
+        ("frequency_hz", C.c_float),
+        ("amplitude_v", C.c_float),
+        ("offset_v", C.c_float),
+        ("rise_fraction", C.c_float),
+        ("direction", C.c_int32),
+        ("cycles", C.c_uint32),
+        ("samples_v", C.POINTER(C.c_float)),
+        ("n_samples", C.c_uint32),
+        ("sample_interval_s", C.c_float),
+    ]
+
+
+_FP = C.POINTER(C.c_float)
+
+
+class ActuatorTrace(C.Structure):
+    _fields_ = [
+        ("step", C.POINTER(C.c_uint32)),
+        ("drive_v", _FP),
+        ("x_p_m", _FP),
+        ("x_rod_m", _FP),
+        ("x_slider_m", _FP),
+        ("v_rod_m_per_s", _FP),
+        ("v_slider_m_per_s", _FP),
+        ("force_n", _FP),
+        ("state_a", _FP),
+        ("state_b", _FP),
+        ("capacity", C.c_uint32),
+    ]
+
+
+TRACE_COLUMNS = [name for name, _ in ActuatorTrace._fields_ if name != "capacity"]
+
+# ids of ss_abi.h
+_ABI = {
+    FrictionConfig: 0,
+    ActuatorConfig: 1,
+    WaveformConfig: 3,
+    ActuatorTrace: 7,
+}
+_ABI_ACTUATOR_STATE, _ABI_WAVEFORM_STATE, _ABI_LS_STATE, _ABI_LUGRE_STATE = 2, 4, 5, 6
+
+
+def _candidates() -> list[Path]:
+    env = os.environ.get("STICKSLIP_LIB")
+    paths = [Path(env)] if env else []
+    paths.append(_HERE / "libstickslip.so")
+    # a development checkout built with `cmake --preset host`
+    paths.append(_HERE.parents[1] / "build" / "host" / "lib" / "libstickslip.so")
+    return paths
+
+
+def _load() -> C.CDLL:
+    tried = []
+    for path in _candidates():
+        if path.is_file():
+            return C.CDLL(str(path))
+        tried.append(str(path))
+    raise ImportError(
+        "libstickslip.so not found; install the package (pip install .) or build it with "
+        "`cmake --preset host && cmake --build --preset host`. Looked in: " + ", ".join(tried)
+    )
+
+
+lib = _load()
+
+
+def _proto(name: str, restype, *argtypes) -> None:
+    fn = getattr(lib, name)
+    fn.restype = restype
+    fn.argtypes = list(argtypes)
+
+
+_P = C.c_void_p
+_proto("ss_status_str", C.c_char_p, C.c_int)
+_proto("ss_abi_sizeof", C.c_uint32, C.c_int32)
+_proto("ss_actuator_config_table1_f32", ActuatorConfig)
+_proto("ss_friction_config_table1_f32", FrictionConfig)
+_proto("ss_stribeck_f32", C.c_float, C.POINTER(FrictionConfig), C.c_float)
+_proto("ss_friction_config_check_f32", C.c_int, C.POINTER(FrictionConfig))
+_proto("ss_actuator_init_f32", C.c_int, C.POINTER(ActuatorConfig), _P, C.c_float)
+_proto("ss_actuator_step_f32", C.c_int, C.POINTER(ActuatorConfig), _P, C.c_float)
+_proto("ss_actuator_record_f32", None, C.POINTER(ActuatorConfig), _P, C.POINTER(ActuatorTrace), C.c_uint32)
+_proto(
+    "ss_actuator_run_f32",
+    C.c_int,
+    C.POINTER(ActuatorConfig),
+    _P,
+    C.POINTER(WaveformConfig),
+    _P,
+    C.c_uint32,
+    C.c_uint32,
+    C.POINTER(ActuatorTrace),
+    C.POINTER(C.c_uint32),
+)
+_proto("ss_waveform_init_f32", C.c_int, C.POINTER(WaveformConfig), C.c_float, _P)
+_proto("ss_waveform_value_f32", C.c_float, C.POINTER(WaveformConfig), _P)
+for _m in ("ls", "lugre"):
+    _proto(f"ss_{_m}_init_f32", C.c_int, C.POINTER(FrictionConfig), _P)
+    _proto(f"ss_{_m}_run_f32", C.c_int, C.POINTER(FrictionConfig), _P, _FP, C.c_uint32, C.c_float, _FP)
+
+for _struct, _id in _ABI.items():
+    if lib.ss_abi_sizeof(_id) != C.sizeof(_struct):
+        raise ImportError(
+            f"libstickslip ABI mismatch: {_struct.__name__} is {C.sizeof(_struct)} bytes here, "
+            f"{lib.ss_abi_sizeof(_id)} in the library; rebuild and reinstall the package"
+        )
+
+
+class NativeError(ValueError):
+    """A call into libstickslip returned an error status."""
+
+    def __init__(self, status: int, where: str):
+        self.status = status
+        msg = lib.ss_status_str(status).decode()
+        super().__init__(f"{where}: {msg} (status {status})")
+
+
+def check(status: int, where: str) -> None:
+    if status != SS_OK:
+        raise NativeError(status, where)
+
+
+def opaque(abi_id: int) -> C.Array:
+    """A zeroed buffer the size of a C state struct, 8-byte aligned."""
+    n = lib.ss_abi_sizeof(abi_id)
+    return (C.c_uint64 * ((n + 7) // 8))()
+
+
+def new_actuator_state() -> C.Array:
+    return opaque(_ABI_ACTUATOR_STATE)
+
+
+def new_waveform_state() -> C.Array:
+    return opaque(_ABI_WAVEFORM_STATE)
+
+
+def new_friction_state(kind: int) -> C.Array:
+    return opaque(_ABI_LUGRE_STATE if kind == SS_FRICTION_LUGRE else _ABI_LS_STATE)
+
+
+def float_ptr(a: np.ndarray):
+    assert a.dtype == np.float32 and a.flags.c_contiguous
+    return a.ctypes.data_as(_FP)
+
+
+def trace_for(columns: dict[str, np.ndarray], capacity: int) -> ActuatorTrace:
+    tr = ActuatorTrace()
+    tr.capacity = capacity
+    for name, arr in columns.items():
+        if name == "step":
+            tr.step = arr.ctypes.data_as(C.POINTER(C.c_uint32))
+        else:
+            setattr(tr, name, float_ptr(arr))
+    return tr

@@ -1,0 +1,327 @@
+"""Parameters, waveforms and simulation runs of the stick-slip actuator, on the C core."""
+
+from __future__ import annotations
+
+import ctypes as C
+import math
+from dataclasses import asdict, dataclass, field, fields, replace
+from pathlib import Path
+
+import numpy as np
+
+from . import _native as N
+
+MODELS = ("ls", "lugre")
+
+
+def _model_id(model: str) -> int:
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {MODELS}, got {model!r}")
+    return N.SS_FRICTION_LUGRE if model == "lugre" else N.SS_FRICTION_LS
+
+
+@dataclass(frozen=True)
+class ActuatorParams:
+    """Actuator and friction parameters, named as in stick-slip-dataset/1 (SI units)."""
+
+    mu_s: float = 0.36
+    mu_d: float = 0.30
+    normal_force_n: float = 10.0
+    piezo_stiffness_n_per_m: float = 2.08e8
+    piezo_damping_kg_per_s: float = 6.2
+    rod_mass_kg: float = 1.1e-3
+    slider_mass_kg: float = 1.38e-2
+    stribeck_velocity_m_per_s: float = 4.0e-4
+    sigma0_n_per_m: float = 1.0e7
+    sigma1_ns_per_m: float = 80.0
+    sigma2_ns_per_m: float = 8.0
+    piezo_gain_m_per_v: float = 4.4e-8
+
+    @classmethod
+    def table1(cls) -> ActuatorParams:
+        """Table I of the LS paper (the defaults), with 44 nm/V so 100 V gives 4.4 um."""
+        return cls()
+
+    @classmethod
+    def from_dict(cls, d: dict, where: str = "actuator") -> ActuatorParams:
+        names = {f.name for f in fields(cls)}
+        unknown = sorted(set(d) - names)
+        missing = sorted(names - set(d))
+        if unknown or missing:
+            raise ValueError(f"{where}: unknown keys {unknown}, missing keys {missing}")
+        vals = {}
+        for k in names:
+            v = d[k]
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ValueError(f"{where}.{k}: expected a finite number, got {v!r}")
+            vals[k] = float(v)
+        return cls(**vals)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    @property
+    def fs_n(self) -> float:
+        return self.mu_s * self.normal_force_n
+
+    @property
+    def fc_n(self) -> float:
+        return self.mu_d * self.normal_force_n
+
+    def friction_config(self) -> N.FrictionConfig:
+        return N.FrictionConfig(
+            self.fs_n,
+            self.fc_n,
+            self.stribeck_velocity_m_per_s,
+            self.sigma0_n_per_m,
+            self.sigma1_ns_per_m,
+            self.sigma2_ns_per_m,
+        )
+
+    def actuator_config(self, model: str = "ls", dt_s: float = 1e-6) -> N.ActuatorConfig:
+        return N.ActuatorConfig(
+            self.piezo_stiffness_n_per_m,
+            self.piezo_damping_kg_per_s,
+            self.rod_mass_kg,
+            self.slider_mass_kg,
+            self.piezo_gain_m_per_v,
+            dt_s,
+            _model_id(model),
+            self.friction_config(),
+        )
+
+
+@dataclass(frozen=True)
+class Sawtooth:
+    """The sawtooth of stick-slip-dataset/1: slow edge for rise_fraction of the period."""
+
+    frequency_hz: float = 500.0
+    amplitude_v: float = 100.0
+    offset_v: float = 0.0
+    rise_fraction: float = 0.95
+    direction: int = 1
+    cycles: int = 20
+
+    @classmethod
+    def from_dict(cls, d: dict, where: str = "waveform") -> Sawtooth:
+        if d.get("shape") != "sawtooth":
+            raise ValueError(f"{where}.shape: only 'sawtooth' is defined, got {d.get('shape')!r}")
+        kw = {}
+        for f in fields(cls):
+            if f.name not in d:
+                raise ValueError(f"{where}: missing key {f.name!r}")
+            v = d[f.name]
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ValueError(f"{where}.{f.name}: expected a finite number, got {v!r}")
+            kw[f.name] = v
+        if kw["direction"] not in (1, -1):
+            raise ValueError(f"{where}.direction: must be 1 or -1, got {kw['direction']!r}")
+        if int(kw["cycles"]) != kw["cycles"] or kw["cycles"] < 0:
+            raise ValueError(f"{where}.cycles: must be a whole number >= 0, got {kw['cycles']!r}")
+        kw["direction"], kw["cycles"] = int(kw["direction"]), int(kw["cycles"])
+        return cls(**kw)
+
+    def to_dict(self) -> dict:
+        return {"shape": "sawtooth", **asdict(self)}
+
+    @property
+    def period_s(self) -> float:
+        return 1.0 / self.frequency_hz
+
+    @property
+    def fall_time_s(self) -> float:
+        """Duration of the fast edge."""
+        return (1.0 - self.rise_fraction) / self.frequency_hz
+
+    @property
+    def duration_s(self) -> float:
+        return self.cycles / self.frequency_hz
+
+    def with_fall_time(self, fall_time_s: float) -> Sawtooth:
+        return replace(self, rise_fraction=1.0 - fall_time_s * self.frequency_hz)
+
+    def config(self) -> N.WaveformConfig:
+        w = N.WaveformConfig()
+        w.kind = N.SS_WAVE_SAWTOOTH
+        w.frequency_hz = self.frequency_hz
+        w.amplitude_v = self.amplitude_v
+        w.offset_v = self.offset_v
+        w.rise_fraction = self.rise_fraction
+        w.direction = self.direction
+        w.cycles = self.cycles
+        return w
+
+
+@dataclass
+class SimResult:
+    """One simulated run. Arrays are float64 copies of the C model's float32 outputs."""
+
+    model: str
+    dt_s: float
+    t_s: np.ndarray
+    drive_v: np.ndarray
+    x_p_m: np.ndarray
+    x_rod_m: np.ndarray
+    x_slider_m: np.ndarray
+    v_rod_m_per_s: np.ndarray
+    v_slider_m_per_s: np.ndarray
+    force_n: np.ndarray
+    state_a: np.ndarray
+    state_b: np.ndarray
+    waveform: Sawtooth | None = None
+    meta: dict = field(default_factory=dict)
+
+    @property
+    def state_names(self) -> tuple[str, str]:
+        return ("z_m", "zdot_m_per_s") if self.model == "lugre" else ("level_n", "presliding_n")
+
+    def cycle_boundaries(self) -> np.ndarray:
+        """Indices of the samples nearest to t = k / f, k = 0..cycles."""
+        if self.waveform is None:
+            raise ValueError("per-cycle figures need a periodic waveform")
+        k = np.arange(self.waveform.cycles + 1)
+        idx = np.rint(k * self.waveform.period_s / (self.t_s[1] - self.t_s[0])).astype(int)
+        return np.clip(idx, 0, len(self.t_s) - 1)
+
+    def per_cycle_steps(self) -> np.ndarray:
+        """Slider displacement over each period (m), measured at the period boundaries."""
+        return np.diff(self.x_slider_m[self.cycle_boundaries()])
+
+    @property
+    def mean_step_m(self) -> float:
+        steps = self.per_cycle_steps()
+        return float(np.mean(steps)) if len(steps) else 0.0
+
+    def summary(self) -> dict:
+        s = {
+            "model": self.model,
+            "dt_s": self.dt_s,
+            "duration_s": float(self.t_s[-1]),
+            "final_slider_position_m": float(self.x_slider_m[-1]),
+        }
+        if self.waveform is not None:
+            steps = self.per_cycle_steps()
+            s["waveform"] = self.waveform.to_dict()
+            s["fall_time_s"] = self.waveform.fall_time_s
+            s["mean_step_per_cycle_m"] = self.mean_step_m
+            s["steady_step_per_cycle_m"] = float(np.median(steps[1:])) if len(steps) > 1 else None
+            s["per_cycle_steps_m"] = [float(v) for v in steps]
+        return s
+
+    def to_csv(self, path: str | Path) -> None:
+        a, b = self.state_names
+        cols = [
+            self.t_s,
+            self.drive_v,
+            self.x_p_m,
+            self.x_rod_m,
+            self.x_slider_m,
+            self.force_n,
+            self.state_a,
+            self.state_b,
+        ]
+        header = f"t_s,drive_v,x_p_m,x_rod_m,x_slider_m,friction_n,{a},{b}"
+        np.savetxt(path, np.column_stack(cols), delimiter=",", header=header, comments="", fmt="%.9g")
+
+
+def _run_native(cfg, wave_cfg, n_steps: int, decimation: int, keep=None) -> dict[str, np.ndarray]:
+    rows = n_steps // decimation
+    cols = {name: np.zeros(rows + 1, np.float32) for name in N.TRACE_COLUMNS if name != "step"}
+    cols["step"] = np.zeros(rows + 1, np.uint32)
+    st = N.new_actuator_state()
+    wst = N.new_waveform_state()
+    N.check(N.lib.ss_waveform_init_f32(C.byref(wave_cfg), cfg.dt_s, wst), "waveform")
+    v0 = N.lib.ss_waveform_value_f32(C.byref(wave_cfg), wst)
+    N.check(N.lib.ss_actuator_init_f32(C.byref(cfg), st, v0), "actuator parameters")
+    first = N.trace_for(cols, rows + 1)
+    N.lib.ss_actuator_record_f32(C.byref(cfg), st, C.byref(first), 0)
+    # the run writes from row 1 on: point a second trace one row in
+    views = {k: v[1:] for k, v in cols.items()}
+    tr = N.trace_for(views, rows)
+    written = C.c_uint32(0)
+    status = N.lib.ss_actuator_run_f32(
+        C.byref(cfg), st, C.byref(wave_cfg), wst, n_steps, decimation, C.byref(tr), C.byref(written)
+    )
+    N.check(status, f"run stopped after {written.value * decimation} steps")
+    return cols
+
+
+def simulate(
+    waveform: Sawtooth | None = None,
+    params: ActuatorParams | None = None,
+    model: str = "ls",
+    dt_s: float = 1e-6,
+    hold_s: float = 0.0,
+    decimation: int = 1,
+    drive_v: np.ndarray | None = None,
+    drive_interval_s: float | None = None,
+) -> SimResult:
+    """Simulate the actuator under a sawtooth, or under sampled drive voltages (drive_v at
+    drive_interval_s, linearly interpolated), with the C model."""
+    params = params or ActuatorParams.table1()
+    cfg = params.actuator_config(model, dt_s)
+    if drive_v is None:
+        waveform = waveform or Sawtooth()
+        wave_cfg = waveform.config()
+        duration = waveform.duration_s + hold_s
+        samples = None
+    else:
+        if drive_interval_s is None:
+            raise ValueError("drive_interval_s is required with drive_v")
+        samples = np.ascontiguousarray(drive_v, dtype=np.float32)
+        wave_cfg = N.WaveformConfig()
+        wave_cfg.kind = N.SS_WAVE_SAMPLED
+        wave_cfg.samples_v = N.float_ptr(samples)
+        wave_cfg.n_samples = len(samples)
+        wave_cfg.sample_interval_s = drive_interval_s
+        duration = (len(samples) - 1) * drive_interval_s + hold_s
+    if decimation < 1:
+        raise ValueError(f"decimation must be >= 1, got {decimation}")
+    n_steps = int(round(duration / dt_s))
+    if n_steps > 2**31:
+        raise ValueError(f"run too long: {n_steps} steps")
+    cols = _run_native(cfg, wave_cfg, n_steps, decimation)
+    del samples  # kept alive until the run is over
+    f64 = {k: v.astype(np.float64) for k, v in cols.items()}
+    return SimResult(
+        model=model,
+        dt_s=dt_s,
+        t_s=f64["step"] * dt_s,
+        drive_v=f64["drive_v"],
+        x_p_m=f64["x_p_m"],
+        x_rod_m=f64["x_rod_m"],
+        x_slider_m=f64["x_slider_m"],
+        v_rod_m_per_s=f64["v_rod_m_per_s"],
+        v_slider_m_per_s=f64["v_slider_m_per_s"],
+        force_n=f64["force_n"],
+        state_a=f64["state_a"],
+        state_b=f64["state_b"],
+        waveform=waveform if drive_v is None else None,
+    )
+
+
+def friction_response(
+    x_m: np.ndarray, dt_s: float, model: str = "ls", params: ActuatorParams | None = None
+) -> np.ndarray:
+    """Friction force (N) of the C model under a prescribed relative displacement x_m, sampled
+    every dt_s, starting from the virgin state at x_m[0]."""
+    params = params or ActuatorParams.table1()
+    kind = _model_id(model)
+    fcfg = params.friction_config()
+    dx = np.ascontiguousarray(np.diff(np.asarray(x_m, np.float64), prepend=x_m[0]), np.float32)
+    out = np.zeros_like(dx)
+    st = N.new_friction_state(kind)
+    init, run = (
+        (N.lib.ss_lugre_init_f32, N.lib.ss_lugre_run_f32)
+        if kind == N.SS_FRICTION_LUGRE
+        else (N.lib.ss_ls_init_f32, N.lib.ss_ls_run_f32)
+    )
+    N.check(init(C.byref(fcfg), st), "friction parameters")
+    N.check(run(C.byref(fcfg), st, N.float_ptr(dx), len(dx), dt_s, N.float_ptr(out)), "friction run")
+    return out.astype(np.float64)
+
+
+def stribeck(v_m_per_s: np.ndarray, params: ActuatorParams | None = None) -> np.ndarray:
+    """The Stribeck curve g(v) of the C library (N)."""
+    fcfg = (params or ActuatorParams.table1()).friction_config()
+    return np.array([N.lib.ss_stribeck_f32(C.byref(fcfg), float(v)) for v in np.ravel(v_m_per_s)])

@@ -1,0 +1,22 @@
+/* Sizes of the public structs, so that a binding (hil/stickslip/_native.py) can check its
+ * mirrors of them at load time instead of trusting a copy of the layout. */
+#ifndef SS_ABI_H
+#define SS_ABI_H
+
+#include <stdint.h>
+
+typedef enum {
+    SS_ABI_FRICTION_CONFIG_F32 = 0,
+    SS_ABI_ACTUATOR_CONFIG_F32 = 1,
+    SS_ABI_ACTUATOR_STATE_F32 = 2,
+    SS_ABI_WAVEFORM_CONFIG_F32 = 3,
+    SS_ABI_WAVEFORM_STATE_F32 = 4,
+    SS_ABI_LS_STATE_F32 = 5,
+    SS_ABI_LUGRE_STATE_F32 = 6,
+    SS_ABI_ACTUATOR_TRACE_F32 = 7
+} ss_abi_struct_t;
+
+/* sizeof the struct, or 0 for an unknown id. */
+uint32_t ss_abi_sizeof(int32_t which);
+
+#endif /* SS_ABI_H */

@@ -1,0 +1,89 @@
+/* The two-mass stick-slip actuator of the LS paper, eqs. (7)-(9): a piezo spring k and damper c
+ * drive the rod M_R, friction couples the rod to the slider M_c. Integrated at a fixed step by a
+ * kick-drift-kick splitting whose drift is the exact flow of the linear rod: docs/model.md. */
+#ifndef SS_ACTUATOR_H
+#define SS_ACTUATOR_H
+
+#include <stdint.h>
+#include "ss_friction.h"
+#include "ss_ls_friction.h"
+#include "ss_lugre.h"
+#include "ss_waveform.h"
+
+typedef enum { SS_FRICTION_LS = 0, SS_FRICTION_LUGRE = 1 } ss_friction_kind_t;
+
+typedef struct {
+    float piezo_stiffness_n_per_m; /* k, [1, 1e12] */
+    float piezo_damping_kg_per_s;  /* c, [0, 1e6] */
+    float rod_mass_kg;             /* M_R, [1e-9, 1e3] */
+    float slider_mass_kg;          /* M_c, [1e-9, 1e3] */
+    float piezo_gain_m_per_v;      /* ideal strain per volt, 0 < |gain| <= 1e-3 */
+    float dt_s;                    /* fixed step, [1e-9, 1e-3] */
+    int32_t friction_model;        /* ss_friction_kind_t */
+    ss_friction_config_f32_t friction;
+} ss_actuator_config_f32_t;
+
+/* Position as an unevaluated sum hi + lo: micrometre steps over centimetres of travel stay exact
+ * to well below a picometre in float arithmetic (compensated summation). */
+typedef struct {
+    float hi_m;
+    float lo_m;
+} ss_position_f32_t;
+
+typedef struct {
+    float x_rod_m, v_rod_m_per_s;       /* rod position and velocity */
+    ss_position_f32_t x_slider;         /* slider position */
+    float v_slider_m_per_s;
+    float x_p_m;                        /* ideal piezo strain at the current time */
+    float drive_v;                      /* drive voltage at the current time */
+    float force_n;                      /* friction on the slider (on the rod: -force_n) */
+    uint32_t steps;                     /* steps taken since init */
+    float phi[4];                       /* rod flow over dt: [e, de/dt] -> phi * [e, de/dt] */
+    union {
+        ss_ls_state_f32_t ls;
+        ss_lugre_state_f32_t lugre;
+    } fr;
+} ss_actuator_state_f32_t;
+
+/* Table I of the LS paper (LS friction, gain 44 nm/V so 100 V is the paper's 4.4 um), dt 1 us. */
+ss_actuator_config_f32_t ss_actuator_config_table1_f32(void);
+
+/* Validate cfg and put the actuator at rest under drive0_v (rod at its static equilibrium). */
+ss_status_t ss_actuator_init_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                 float drive0_v);
+
+/* One step of dt_s, the drive going linearly from its current value to drive_v.
+ * A non-finite drive returns SS_ERR_NONFINITE and leaves the state unchanged. */
+ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                 float drive_v);
+
+float ss_position_value_f32(ss_position_f32_t p);
+
+/* Columns a run may record; any pointer may be NULL. */
+typedef struct {
+    uint32_t *step;
+    float *drive_v;
+    float *x_p_m;
+    float *x_rod_m;
+    float *x_slider_m;
+    float *v_rod_m_per_s;
+    float *v_slider_m_per_s;
+    float *force_n;
+    float *state_a; /* LS: break-away level s (N);    LuGre: bristle z (m) */
+    float *state_b; /* LS: presliding force F_M (N); LuGre: dz/dt (m/s) */
+    uint32_t capacity; /* rows the buffers hold */
+} ss_actuator_trace_f32_t;
+
+/* Write the current state into row `row` of the trace (row < capacity is the caller's duty). */
+void ss_actuator_record_f32(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
+                            ss_actuator_trace_f32_t *trace, uint32_t row);
+
+/* Play a waveform through the actuator for n_steps, recording the state after every
+ * decimation-th step (rows 0.. n_steps/decimation - 1; the state before the run is not recorded).
+ * rows_out gets the rows written. Stops at the first error (rows so far are kept). */
+ss_status_t ss_actuator_run_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
+                                uint32_t n_steps, uint32_t decimation, ss_actuator_trace_f32_t *trace,
+                                uint32_t *rows_out);
+
+#endif /* SS_ACTUATOR_H */

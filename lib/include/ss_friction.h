@@ -1,0 +1,31 @@
+/* Parameters shared by the friction models (LS and LuGre) and the Stribeck curve
+ * g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2). Equations and units: docs/model.md. */
+#ifndef SS_FRICTION_H
+#define SS_FRICTION_H
+
+#include "ss_status.h"
+
+typedef struct {
+    float fs_n;              /* static (break-away) friction Fs = mu_s * N, (0, 1e4] */
+    float fc_n;              /* Coulomb friction Fc = mu_d * N, (0, Fs] */
+    float vs_m_per_s;        /* Stribeck velocity, [1e-9, 10] */
+    float sigma0_n_per_m;    /* initial contact stiffness, [1, 1e12] */
+    float sigma1_ns_per_m;   /* micro-damping, [0, 1e6] */
+    float sigma2_ns_per_m;   /* viscous friction, [0, 1e6] */
+} ss_friction_config_f32_t;
+
+/* Table I of the LS paper: mu_s 0.36, mu_d 0.30, N 10 N, vs 0.4 mm/s, sigma 1e7/80/8. */
+ss_friction_config_f32_t ss_friction_config_table1_f32(void);
+
+/* Config from friction coefficients and clamping (normal) force. */
+ss_friction_config_f32_t ss_friction_config_from_mu_f32(float mu_s, float mu_d, float normal_force_n,
+                                                        float vs_m_per_s, float sigma0_n_per_m,
+                                                        float sigma1_ns_per_m, float sigma2_ns_per_m);
+
+/* SS_OK, SS_ERR_NULL, SS_ERR_NONFINITE or SS_ERR_RANGE (ranges above). */
+ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg);
+
+/* Stribeck curve g(v) in N: Fs at rest, Fc in fast sliding. */
+float ss_stribeck_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s);
+
+#endif /* SS_FRICTION_H */

@@ -1,0 +1,242 @@
+#include "ss_actuator.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include "ss_check.h"
+
+ss_actuator_config_f32_t ss_actuator_config_table1_f32(void)
+{
+    ss_actuator_config_f32_t cfg;
+    cfg.piezo_stiffness_n_per_m = 2.08e8f;
+    cfg.piezo_damping_kg_per_s = 6.2f;
+    cfg.rod_mass_kg = 1.1e-3f;
+    cfg.slider_mass_kg = 1.38e-2f;
+    cfg.piezo_gain_m_per_v = 4.4e-8f;
+    cfg.dt_s = 1.0e-6f;
+    cfg.friction_model = SS_FRICTION_LS;
+    cfg.friction = ss_friction_config_table1_f32();
+    return cfg;
+}
+
+float ss_position_value_f32(ss_position_f32_t p)
+{
+    return p.hi_m + p.lo_m;
+}
+
+/* Fast2Sum-style compensated add: keeps what hi cannot hold in lo. */
+static void position_add(ss_position_f32_t *p, float dx)
+{
+    const float y = dx + p->lo_m;
+    const float t = p->hi_m + y;
+    p->lo_m = y - (t - p->hi_m);
+    p->hi_m = t;
+}
+
+static ss_status_t check_config(const ss_actuator_config_f32_t *cfg)
+{
+    const float lims[6][3] = {
+        {cfg->piezo_stiffness_n_per_m, 1.0f, 1e12f},
+        {cfg->piezo_damping_kg_per_s, 0.0f, 1e6f},
+        {cfg->rod_mass_kg, 1e-9f, 1e3f},
+        {cfg->slider_mass_kg, 1e-9f, 1e3f},
+        {cfg->piezo_gain_m_per_v, -1e-3f, 1e-3f},
+        {cfg->dt_s, 1e-9f, 1e-3f},
+    };
+    for (int i = 0; i < 6; ++i) {
+        ss_status_t st = ss_check_range_f32(lims[i][0], lims[i][1], lims[i][2]);
+        if (st != SS_OK) {
+            return st;
+        }
+    }
+    if (cfg->piezo_gain_m_per_v == 0.0f) {
+        return SS_ERR_RANGE;
+    }
+    if (cfg->friction_model != SS_FRICTION_LS && cfg->friction_model != SS_FRICTION_LUGRE) {
+        return SS_ERR_RANGE;
+    }
+    return ss_friction_config_check_f32(&cfg->friction);
+}
+
+/* Exact flow of M e'' + c e' + k e = 0 over dt, as a 2x2 matrix on (e, e'). Under-, critically
+ * and over-damped cases share one form with s(t) = sin(w t)/w, sinh(w t)/w or t. */
+static void rod_flow(const ss_actuator_config_f32_t *cfg, float phi[4])
+{
+    const float k = cfg->piezo_stiffness_n_per_m;
+    const float m = cfg->rod_mass_kg;
+    const float dt = cfg->dt_s;
+    const float wn2 = k / m;
+    const float sigma = 0.5f * cfg->piezo_damping_kg_per_s / m;
+    const float wd2 = wn2 - sigma * sigma;
+    float co;
+    float si; /* s(dt) as above */
+    if (wd2 > 0.0f) {
+        const float wd = sqrtf(wd2);
+        co = cosf(wd * dt);
+        si = sinf(wd * dt) / wd;
+    } else if (wd2 < 0.0f) {
+        const float w = sqrtf(-wd2);
+        co = coshf(w * dt);
+        si = sinhf(w * dt) / w;
+    } else {
+        co = 1.0f;
+        si = dt;
+    }
+    const float e = expf(-sigma * dt);
+    phi[0] = e * (co + sigma * si);
+    phi[1] = e * si;
+    phi[2] = -e * wn2 * si;
+    phi[3] = e * (co - sigma * si);
+}
+
+static float friction_step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float dx)
+{
+    if (cfg->friction_model == SS_FRICTION_LUGRE) {
+        return ss_lugre_step_f32(&cfg->friction, &st->fr.lugre, dx, cfg->dt_s);
+    }
+    return ss_ls_step_f32(&cfg->friction, &st->fr.ls, dx, cfg->dt_s);
+}
+
+ss_status_t ss_actuator_init_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                 float drive0_v)
+{
+    if (cfg == NULL || st == NULL) {
+        return SS_ERR_NULL;
+    }
+    ss_status_t status = check_config(cfg);
+    if (status == SS_OK) {
+        status = ss_check_range_f32(drive0_v, -1e5f, 1e5f);
+    }
+    if (status != SS_OK) {
+        return status;
+    }
+    if (cfg->friction_model == SS_FRICTION_LUGRE) {
+        status = ss_lugre_init_f32(&cfg->friction, &st->fr.lugre);
+    } else {
+        status = ss_ls_init_f32(&cfg->friction, &st->fr.ls);
+    }
+    if (status != SS_OK) {
+        return status;
+    }
+    st->drive_v = drive0_v;
+    st->x_p_m = cfg->piezo_gain_m_per_v * drive0_v;
+    st->x_rod_m = st->x_p_m; /* static equilibrium: no friction at the virgin state */
+    st->v_rod_m_per_s = 0.0f;
+    st->x_slider.hi_m = 0.0f;
+    st->x_slider.lo_m = 0.0f;
+    st->v_slider_m_per_s = 0.0f;
+    st->force_n = 0.0f;
+    st->steps = 0u;
+    rod_flow(cfg, st->phi);
+    return SS_OK;
+}
+
+ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                 float drive_v)
+{
+    if (cfg == NULL || st == NULL) {
+        return SS_ERR_NULL;
+    }
+    if (!isfinite(drive_v)) {
+        return SS_ERR_NONFINITE;
+    }
+    const float dt = cfg->dt_s;
+    const float half = 0.5f * dt;
+    const float inv_mr = 1.0f / cfg->rod_mass_kg;
+    const float inv_mc = 1.0f / cfg->slider_mass_kg;
+
+    /* kick: half a step of friction on both bodies */
+    st->v_rod_m_per_s -= st->force_n * inv_mr * half;
+    st->v_slider_m_per_s += st->force_n * inv_mc * half;
+
+    /* drift: exact flow of the rod under a piezo strain ramping linearly over the step.
+     * Its forced response is y(t) = x_p(t) - c b / k with b the ramp rate; the rest is free. */
+    const float x_p1 = cfg->piezo_gain_m_per_v * drive_v;
+    const float b = (x_p1 - st->x_p_m) / dt;
+    const float lag = cfg->piezo_damping_kg_per_s * b / cfg->piezo_stiffness_n_per_m;
+    const float e0 = st->x_rod_m - (st->x_p_m - lag);
+    const float ed0 = st->v_rod_m_per_s - b;
+    const float e1 = st->phi[0] * e0 + st->phi[1] * ed0;
+    const float ed1 = st->phi[2] * e0 + st->phi[3] * ed0;
+    const float x_rod1 = (x_p1 - lag) + e1;
+    const float dx_slider = st->v_slider_m_per_s * dt;
+    const float dx_rel = (x_rod1 - st->x_rod_m) - dx_slider;
+    st->x_rod_m = x_rod1;
+    st->v_rod_m_per_s = b + ed1;
+    position_add(&st->x_slider, dx_slider);
+    st->x_p_m = x_p1;
+    st->drive_v = drive_v;
+
+    /* friction at the new relative position, with the mean relative velocity of the drift */
+    st->force_n = friction_step(cfg, st, dx_rel);
+
+    /* kick */
+    st->v_rod_m_per_s -= st->force_n * inv_mr * half;
+    st->v_slider_m_per_s += st->force_n * inv_mc * half;
+    st->steps++;
+    return SS_OK;
+}
+
+void ss_actuator_record_f32(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
+                            ss_actuator_trace_f32_t *tr, uint32_t row)
+{
+    const int lugre = (cfg->friction_model == SS_FRICTION_LUGRE);
+    if (tr->step != NULL) {
+        tr->step[row] = st->steps;
+    }
+    if (tr->drive_v != NULL) {
+        tr->drive_v[row] = st->drive_v;
+    }
+    if (tr->x_p_m != NULL) {
+        tr->x_p_m[row] = st->x_p_m;
+    }
+    if (tr->x_rod_m != NULL) {
+        tr->x_rod_m[row] = st->x_rod_m;
+    }
+    if (tr->x_slider_m != NULL) {
+        tr->x_slider_m[row] = ss_position_value_f32(st->x_slider);
+    }
+    if (tr->v_rod_m_per_s != NULL) {
+        tr->v_rod_m_per_s[row] = st->v_rod_m_per_s;
+    }
+    if (tr->v_slider_m_per_s != NULL) {
+        tr->v_slider_m_per_s[row] = st->v_slider_m_per_s;
+    }
+    if (tr->force_n != NULL) {
+        tr->force_n[row] = st->force_n;
+    }
+    if (tr->state_a != NULL) {
+        tr->state_a[row] = lugre ? st->fr.lugre.z_m : st->fr.ls.level_n;
+    }
+    if (tr->state_b != NULL) {
+        tr->state_b[row] = lugre ? st->fr.lugre.zdot_m_per_s : st->fr.ls.fm_n;
+    }
+}
+
+ss_status_t ss_actuator_run_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
+                                uint32_t n_steps, uint32_t decimation, ss_actuator_trace_f32_t *trace,
+                                uint32_t *rows_out)
+{
+    if (cfg == NULL || st == NULL || wave == NULL || wst == NULL || rows_out == NULL) {
+        return SS_ERR_NULL;
+    }
+    *rows_out = 0u;
+    if (decimation == 0u) {
+        return SS_ERR_RANGE;
+    }
+    uint32_t rows = 0u;
+    if (trace != NULL && trace->capacity < n_steps / decimation) {
+        return SS_ERR_RANGE;
+    }
+    ss_status_t status = SS_OK;
+    for (uint32_t i = 1u; i <= n_steps && status == SS_OK; ++i) {
+        ss_waveform_advance_f32(wst);
+        status = ss_actuator_step_f32(cfg, st, ss_waveform_value_f32(wave, wst));
+        if (status == SS_OK && trace != NULL && i % decimation == 0u) {
+            ss_actuator_record_f32(cfg, st, trace, rows++);
+        }
+    }
+    *rows_out = rows;
+    return status;
+}

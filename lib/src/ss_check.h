@@ -1,0 +1,22 @@
+/* Private helpers for parameter validation (not part of the public API). */
+#ifndef SS_CHECK_H
+#define SS_CHECK_H
+
+#include <math.h>
+#include "ss_status.h"
+
+/* SS_ERR_NONFINITE for NaN/inf, SS_ERR_RANGE outside [lo, hi], else SS_OK. */
+static inline ss_status_t ss_check_range_f32(float v, float lo, float hi)
+{
+    if (!isfinite(v)) {
+        return SS_ERR_NONFINITE;
+    }
+    return (v >= lo && v <= hi) ? SS_OK : SS_ERR_RANGE;
+}
+
+static inline float ss_sign_f32(float v)
+{
+    return (v > 0.0f) ? 1.0f : ((v < 0.0f) ? -1.0f : 0.0f);
+}
+
+#endif /* SS_CHECK_H */

@@ -1,0 +1,146 @@
+#include "ss_ls_friction.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include "ss_check.h"
+
+/* Beyond this many presliding lengths Fs/sigma0 the virgin curve equals Fs to float precision
+ * (exp(-24) ~ 4e-11), so the frame can be re-based without changing any force. */
+#define SS_LS_SATURATION_LENGTHS 24.0f
+
+ss_status_t ss_ls_init_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st)
+{
+    if (st == NULL) {
+        return SS_ERR_NULL;
+    }
+    ss_status_t status = ss_friction_config_check_f32(cfg);
+    if (status != SS_OK) {
+        return status;
+    }
+    st->x_m = 0.0f;
+    st->x0_m = 0.0f;
+    st->fm_n = 0.0f;
+    st->kt_n_per_m = cfg->sigma0_n_per_m;
+    st->level_n = cfg->fs_n;
+    st->zdot_m_per_s = 0.0f;
+    st->force_n = 0.0f;
+    st->dir = 0;
+    st->depth = 0;
+    for (int i = 0; i < SS_LS_MEMORY_DEPTH; ++i) {
+        st->rev[i].x_m = 0.0f;
+        st->rev[i].f_n = 0.0f;
+    }
+    return SS_OK;
+}
+
+static void push_reversal(ss_ls_state_f32_t *st)
+{
+    if (st->depth >= SS_LS_MEMORY_DEPTH) {
+        /* Forget the innermost (smallest, most recent) minor loop; parity of the stack holds. */
+        st->depth = (uint8_t)(st->depth - 2u);
+    }
+    st->rev[st->depth].x_m = st->x_m;
+    st->rev[st->depth].f_n = st->fm_n;
+    st->depth++;
+}
+
+/* Wiping-out: a branch that reaches the reversal point where the opposite branch began closes
+ * that minor loop, and motion resumes on the branch that was active before it. */
+static void close_loops(ss_ls_state_f32_t *st)
+{
+    const float d = (float)st->dir;
+    for (;;) {
+        if (st->depth >= 2u && d * (st->x_m - st->rev[st->depth - 2u].x_m) >= 0.0f) {
+            st->depth = (uint8_t)(st->depth - 2u);
+        } else if (st->depth == 1u && d * (st->x_m - (2.0f * st->x0_m - st->rev[0].x_m)) >= 0.0f) {
+            st->depth = 0u; /* back on the virgin curve, at the mirror of the first reversal */
+        } else {
+            return;
+        }
+    }
+}
+
+/* Masing branches of the exponential virgin curve phi(u) = Fs (1 - exp(-sigma0 u / Fs)). */
+static void eval_branch(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st)
+{
+    const float fs = cfg->fs_n;
+    const float k0 = cfg->sigma0_n_per_m;
+    if (st->depth == 0u) {
+        const float u = st->x_m - st->x0_m;
+        const float a = k0 * fabsf(u) / fs;
+        st->fm_n = -ss_sign_f32(u) * fs * expm1f(-a);
+        st->kt_n_per_m = k0 * expf(-a);
+    } else {
+        const ss_ls_reversal_f32_t *r = &st->rev[st->depth - 1u];
+        const float a = k0 * fabsf(st->x_m - r->x_m) / (2.0f * fs);
+        st->fm_n = r->f_n - (float)st->dir * 2.0f * fs * expm1f(-a);
+        st->kt_n_per_m = k0 * expf(-a);
+    }
+}
+
+static void rebase(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st)
+{
+    if (st->depth != 0u) {
+        return; /* reversal points bound the excursion: nothing grows */
+    }
+    const float u = st->x_m - st->x0_m;
+    const float l_sat = SS_LS_SATURATION_LENGTHS * cfg->fs_n / cfg->sigma0_n_per_m;
+    if (fabsf(u) > l_sat) {
+        st->x0_m = -ss_sign_f32(u) * l_sat;
+        st->x_m = 0.0f;
+    }
+}
+
+float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m,
+                     float dt_s)
+{
+    if (!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f)) {
+        return st->force_n;
+    }
+    const float fm_old = st->fm_n;
+    if (dx_m != 0.0f) {
+        const int8_t d = (dx_m > 0.0f) ? (int8_t)1 : (int8_t)-1;
+        if (st->dir != 0 && d != st->dir) {
+            push_reversal(st);
+        }
+        st->dir = d;
+        st->x_m += dx_m;
+        close_loops(st);
+        eval_branch(cfg, st);
+        rebase(cfg, st);
+    }
+    /* Elastic-plastic split of the increment: what the presliding element does not take up
+     * elastically is gross slip. Rate independent; zero right after a reversal. */
+    float slip = dx_m - (st->fm_n - fm_old) / cfg->sigma0_n_per_m;
+    if (slip * dx_m < 0.0f) {
+        slip = 0.0f; /* rounding only: the tangent stiffness never exceeds sigma0 */
+    }
+    /* LuGre in the slip: the break-away level s relaxes to g(v_slip) over the distance g/sigma0,
+     * exact for a slip velocity frozen over the step. */
+    const float v = dx_m / dt_s;
+    const float g = ss_stribeck_f32(cfg, slip / dt_s);
+    const float s_old = st->level_n;
+    st->level_n = g + (s_old - g) * expf(-cfg->sigma0_n_per_m * fabsf(slip) / g);
+    /* dz/dt = v_slip (1 - s/g): LuGre's bristle rate once the contact slides, continuous in v */
+    st->zdot_m_per_s = ss_sign_f32(slip) * (st->level_n - s_old) / (cfg->sigma0_n_per_m * dt_s);
+    st->force_n = (st->level_n / cfg->fs_n) * st->fm_n + cfg->sigma1_ns_per_m * st->zdot_m_per_s +
+                  cfg->sigma2_ns_per_m * v;
+    return st->force_n;
+}
+
+ss_status_t ss_ls_run_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st,
+                          const float *dx_m, uint32_t n, float dt_s, float *force_n)
+{
+    if (cfg == NULL || st == NULL || (n > 0u && (dx_m == NULL || force_n == NULL))) {
+        return SS_ERR_NULL;
+    }
+    ss_status_t status = ss_check_range_f32(dt_s, 1e-12f, 1e3f);
+    for (uint32_t i = 0; status == SS_OK && i < n; ++i) {
+        if (!isfinite(dx_m[i])) {
+            return SS_ERR_NONFINITE;
+        }
+        force_n[i] = ss_ls_step_f32(cfg, st, dx_m[i], dt_s);
+    }
+    return status;
+}
