@@ -13,6 +13,9 @@ from scipy.integrate import solve_ivp
 
 from .model import ActuatorParams, Sawtooth
 
+# docs/model.md: gross slip sets in above this share of Fs (SS_LS_BREAKAWAY_RATIO in C)
+BREAKAWAY_RATIO = 0.9
+
 
 class MasingMemory:
     """Masing branches of phi(u) = Fs (1 - exp(-sigma0 u / Fs)) with a stack of reversals."""
@@ -100,6 +103,10 @@ def simulate_reference(
     def g(v: float) -> float:
         return fc + (fs - fc) * math.exp(-((v / vs) ** 2))
 
+    def gate(fm: float) -> float:
+        tt = (abs(fm) / fs - BREAKAWAY_RATIO) / (1.0 - BREAKAWAY_RATIO)
+        return 0.0 if tt <= 0 else 1.0 if tt >= 1 else tt * tt * (3.0 - 2.0 * tt)
+
     def friction(y, d: int) -> float:
         x, v = y[0] - y[2], y[1] - y[3]
         if model == "lugre":
@@ -107,7 +114,7 @@ def simulate_reference(
             zdot = v - k0 * abs(v) * z / g(v)
             return k0 * z + s1 * zdot + s2 * v
         fm, kt = mem.force(x, d)
-        vp = v * (1.0 - kt / k0)
+        vp = v * (1.0 - kt / k0) * gate(fm)
         zdot = vp * (1.0 - y[4] / g(vp))
         return (y[4] / fs) * fm + s1 * zdot + s2 * v
 
@@ -119,8 +126,8 @@ def simulate_reference(
         if model == "lugre":
             sdot = v - k0 * abs(v) * y[4] / g(v)
         else:
-            _, kt = mem.force(x, d)
-            vp = v * (1.0 - kt / k0)
+            fm, kt = mem.force(x, d)
+            vp = v * (1.0 - kt / k0) * gate(fm)
             gp = g(vp)
             sdot = k0 * abs(vp) / gp * (gp - y[4])
         return [y[1], (k * (xp - y[0]) - c * y[1] - f) / mr, y[3], f / mc, sdot]

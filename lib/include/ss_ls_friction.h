@@ -8,6 +8,9 @@
 #include <stdint.h>
 #include "ss_friction.h"
 
+/* Presliding force (share of Fs) where gross slip, and with it the LuGre part, sets in. */
+#define SS_LS_BREAKAWAY_RATIO 0.9f
+
 /* Reversal points remembered; nested minor loops deeper than this lose their innermost loop. */
 #define SS_LS_MEMORY_DEPTH 32
 

@@ -9,6 +9,20 @@
  * (exp(-24) ~ 4e-11), so the frame can be re-based without changing any force. */
 #define SS_LS_SATURATION_LENGTHS 24.0f
 
+/* Smooth step from 0 (presliding force below SS_LS_BREAKAWAY_RATIO of Fs) to 1 (at Fs): only
+ * gross slip drives the LuGre part, as the elasto-plastic model's alpha(z) does. */
+static float breakaway_gate(float fm_over_fs)
+{
+    const float t = (fm_over_fs - SS_LS_BREAKAWAY_RATIO) / (1.0f - SS_LS_BREAKAWAY_RATIO);
+    if (t <= 0.0f) {
+        return 0.0f;
+    }
+    if (t >= 1.0f) {
+        return 1.0f;
+    }
+    return t * t * (3.0f - 2.0f * t);
+}
+
 ss_status_t ss_ls_init_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st)
 {
     if (st == NULL) {
@@ -111,11 +125,13 @@ float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st,
         rebase(cfg, st);
     }
     /* Elastic-plastic split of the increment: what the presliding element does not take up
-     * elastically is gross slip. Rate independent; zero right after a reversal. */
+     * elastically has slipped (zero right after a reversal). It counts as gross slip only once the
+     * presliding force nears its saturation, so presliding stays rate independent. */
     float slip = dx_m - (st->fm_n - fm_old) / cfg->sigma0_n_per_m;
     if (slip * dx_m < 0.0f) {
         slip = 0.0f; /* rounding only: the tangent stiffness never exceeds sigma0 */
     }
+    slip *= breakaway_gate(fabsf(st->fm_n) / cfg->fs_n);
     /* LuGre in the slip: the break-away level s relaxes to g(v_slip) over the distance g/sigma0,
      * exact for a slip velocity frozen over the step. */
     const float v = dx_m / dt_s;

@@ -1,0 +1,122 @@
+/* The sawtooth of stick-slip-dataset/1 and the sampled drive. */
+#include "ss_test.h"
+
+#include "ss_waveform.h"
+
+static void test_sawtooth_forward_shape(void **unused)
+{
+    (void)unused;
+    /* 1 kHz, rise 0.8: 0 -> 10 V over 800 us, back to 0 over 200 us; offset 1 V */
+    ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(1000.0f, 10.0f, 1.0f, 0.8f, 1, 2);
+    ss_waveform_state_f32_t st;
+    assert_int_equal(ss_waveform_init_f32(&w, 1e-6f, &st), SS_OK);
+    float v[2501];
+    for (int k = 0; k <= 2500; ++k) {
+        v[k] = ss_waveform_value_f32(&w, &st);
+        ss_waveform_advance_f32(&st);
+    }
+    assert_close(v[0], 1.0f, 1e-6f);
+    assert_close(v[400], 6.0f, 1e-4f);
+    assert_close(v[800], 11.0f, 1e-3f);
+    assert_close(v[900], 6.0f, 1e-3f);
+    assert_close(v[1000], 1.0f, 1e-3f);
+    assert_close(v[1400], 6.0f, 1e-3f);
+    assert_close(v[2000], 1.0f, 1e-3f); /* after the last cycle: held at offset */
+    assert_close(v[2300], 1.0f, 0.0f);
+}
+
+static void test_sawtooth_reverse_is_time_reversed(void **unused)
+{
+    (void)unused;
+    ss_waveform_config_f32_t f = ss_waveform_sawtooth_f32(1000.0f, 10.0f, 0.0f, 0.8f, 1, 1);
+    ss_waveform_config_f32_t r = ss_waveform_sawtooth_f32(1000.0f, 10.0f, 0.0f, 0.8f, -1, 1);
+    for (int k = 1; k < 1000; ++k) {
+        const float p = (float)k / 1000.0f;
+        assert_close(ss_sawtooth_at_phase_f32(&r, p), ss_sawtooth_at_phase_f32(&f, 1.0f - p), 1e-4f);
+    }
+    /* the reversed period rises fast: at 10 % it is at half amplitude */
+    assert_close(ss_sawtooth_at_phase_f32(&r, 0.1f), 5.0f, 1e-4f);
+}
+
+/* Edges stay on time over many periods: no accumulated float drift. */
+static void test_long_run_keeps_phase(void **unused)
+{
+    (void)unused;
+    ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(300.0f, 1.0f, 0.0f, 0.5f, 1, 100000);
+    ss_waveform_state_f32_t st;
+    ss_waveform_init_f32(&w, 1e-6f, &st);
+    const uint32_t n = 100000000u; /* 100 s, 30000 periods */
+    for (uint32_t k = 0; k < n; ++k) {
+        ss_waveform_advance_f32(&st);
+    }
+    /* the player's clock (periods + time into the period) against n * dt in double */
+    const double elapsed = (double)st.index * (double)st.period_s + (double)st.tau0_s + (double)st.j * (double)st.dt_s;
+    const double expect = (double)n * (double)st.dt_s;
+    print_message("after %u steps: clock error %.3g s\n", n, elapsed - expect);
+    assert_true(fabs(elapsed - expect) < 0.5e-6); /* edges within half a step after 1e8 steps */
+}
+
+static void test_sampled_interpolates_and_holds(void **unused)
+{
+    (void)unused;
+    const float s[3] = {0.0f, 10.0f, -10.0f};
+    ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(1.0f, 0.0f, 0.0f, 0.5f, 1, 0);
+    w.kind = SS_WAVE_SAMPLED;
+    w.samples_v = s;
+    w.n_samples = 3;
+    w.sample_interval_s = 1e-3f;
+    ss_waveform_state_f32_t st;
+    assert_int_equal(ss_waveform_init_f32(&w, 1e-4f, &st), SS_OK);
+    float v[40];
+    for (int k = 0; k < 40; ++k) {
+        v[k] = ss_waveform_value_f32(&w, &st);
+        ss_waveform_advance_f32(&st);
+    }
+    assert_close(v[5], 5.0f, 1e-3f);
+    assert_close(v[10], 10.0f, 1e-3f);
+    assert_close(v[15], 0.0f, 1e-3f);
+    assert_close(v[30], -10.0f, 0.0f);
+}
+
+static void test_waveform_validation(void **unused)
+{
+    (void)unused;
+    ss_waveform_state_f32_t st;
+    ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, 1);
+    assert_int_equal(ss_waveform_init_f32(&w, 1e-6f, &st), SS_OK);
+    assert_int_equal(ss_waveform_init_f32(NULL, 1e-6f, &st), SS_ERR_NULL);
+    assert_int_equal(ss_waveform_init_f32(&w, NAN, &st), SS_ERR_NONFINITE);
+    w.rise_fraction = 1.0f;
+    assert_int_equal(ss_waveform_init_f32(&w, 1e-6f, &st), SS_ERR_RANGE);
+    w.rise_fraction = 0.5f;
+    w.direction = 0;
+    assert_int_equal(ss_waveform_init_f32(&w, 1e-6f, &st), SS_ERR_RANGE);
+    w.direction = 1;
+    w.frequency_hz = NAN;
+    assert_int_equal(ss_waveform_init_f32(&w, 1e-6f, &st), SS_ERR_NONFINITE);
+    w.frequency_hz = -5.0f;
+    assert_int_equal(ss_waveform_init_f32(&w, 1e-6f, &st), SS_ERR_RANGE);
+    const float bad[2] = {0.0f, NAN};
+    w = ss_waveform_sawtooth_f32(1.0f, 0.0f, 0.0f, 0.5f, 1, 0);
+    w.kind = SS_WAVE_SAMPLED;
+    w.samples_v = bad;
+    w.n_samples = 2;
+    w.sample_interval_s = 1e-3f;
+    assert_int_equal(ss_waveform_init_f32(&w, 1e-6f, &st), SS_ERR_NONFINITE);
+    w.samples_v = NULL;
+    assert_int_equal(ss_waveform_init_f32(&w, 1e-6f, &st), SS_ERR_NULL);
+    w.kind = 7;
+    assert_int_equal(ss_waveform_init_f32(&w, 1e-6f, &st), SS_ERR_RANGE);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sawtooth_forward_shape),
+        cmocka_unit_test(test_sawtooth_reverse_is_time_reversed),
+        cmocka_unit_test(test_long_run_keeps_phase),
+        cmocka_unit_test(test_sampled_interpolates_and_holds),
+        cmocka_unit_test(test_waveform_validation),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
