@@ -69,9 +69,11 @@ class ActuatorParams:
         return self.mu_d * self.normal_force_n
 
     def friction_config(self) -> N.FrictionConfig:
-        return N.FrictionConfig(
-            self.fs_n,
-            self.fc_n,
+        # Fs = mu_s N is formed in float by the C library, exactly as firmware forms it
+        return N.lib.ss_friction_config_from_mu_f32(
+            self.mu_s,
+            self.mu_d,
+            self.normal_force_n,
             self.stribeck_velocity_m_per_s,
             self.sigma0_n_per_m,
             self.sigma1_ns_per_m,
@@ -277,6 +279,10 @@ def simulate(
         duration = (len(samples) - 1) * drive_interval_s + hold_s
     if decimation < 1:
         raise ValueError(f"decimation must be >= 1, got {decimation}")
+    # let the C library judge the waveform before its duration is trusted
+    N.check(N.lib.ss_waveform_init_f32(C.byref(wave_cfg), dt_s, N.new_waveform_state()), "waveform")
+    if not (math.isfinite(hold_s) and hold_s >= 0):
+        raise ValueError(f"hold_s must be >= 0, got {hold_s}")
     n_steps = int(round(duration / dt_s))
     if n_steps > 2**31:
         raise ValueError(f"run too long: {n_steps} steps")

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Set up a fresh Debian machine for stickslip: system packages, the Python virtual environment
+# at .venv (with the `stickslip` command and the C library built into it), and the host build.
+# Idempotent: re-running only does what is missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+APT_PACKAGES=(cmake ninja-build gcc libc6-dev libcmocka-dev pkg-config)
+if ! python3 -c 'import venv, ensurepip' >/dev/null 2>&1; then
+  APT_PACKAGES+=(python3 python3-venv)
+fi
+missing=()
+for p in "${APT_PACKAGES[@]}"; do
+  dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing system packages: ${missing[*]}"
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "setup: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+    SUDO="sudo"
+  fi
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+if [ ! -x .venv/bin/python ]; then
+  echo "setup: creating .venv"
+  python3 -m venv .venv
+fi
+# The package build compiles lib/ with CMake (scikit-build-core) into the installed package.
+echo "setup: installing the stickslip package into .venv"
+.venv/bin/pip install -q --disable-pip-version-check ".[test]"
+
+echo "setup: building the C library, host simulator and C tests (build/host)"
+cmake --preset host >/dev/null
+cmake --build --preset host
