@@ -28,4 +28,7 @@ ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg);
 /* Stribeck curve g(v) in N: Fs at rest, Fc in fast sliding. */
 float ss_stribeck_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s);
 
+/* Slope dg/dv of the Stribeck curve, N s/m. */
+float ss_stribeck_slope_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s);
+
 #endif /* SS_FRICTION_H */

@@ -25,7 +25,6 @@ typedef struct {
     float fm_n;       /* Masing presliding force F_M (level Fs), N */
     float kt_n_per_m; /* tangent stiffness dF_M/dx, N/m */
     float level_n;    /* break-away level s: Fs at rest, -> g(v) in gross sliding, N */
-    float zdot_m_per_s; /* bristle rate dz/dt = sgn(v_slip) ds/dt / sigma0 over the last step */
     float force_n;    /* total friction after the last step, N */
     int8_t dir;       /* direction of the last motion: +1, -1, 0 before any motion */
     uint8_t depth;    /* reversal points on the stack */
@@ -39,6 +38,12 @@ ss_status_t ss_ls_init_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_
  * the slip velocity of the LuGre part and the viscous term. dt_s must be > 0. */
 float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m,
                      float dt_s);
+
+/* Force at the current state for a relative velocity v (N), and its slope dF/dv (N s/m) in
+ * *dfdv_ns_per_m when not NULL. step() ends with force_at(dx/dt); the actuator asks for the
+ * velocity at the end of its step instead (docs/model.md, integrator). */
+float ss_ls_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_ls_state_f32_t *st, float v_m_per_s,
+                         float *dfdv_ns_per_m);
 
 /* Apply n displacement increments dx_m[i] (each taken in dt_s) and write each force to force_n[i]. */
 ss_status_t ss_ls_run_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, const float *dx_m,

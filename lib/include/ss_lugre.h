@@ -10,7 +10,7 @@
 
 typedef struct {
     float z_m;     /* mean bristle deflection */
-    float zdot_m_per_s; /* dz/dt over the last step */
+    float zdot_m_per_s; /* dz/dt at the end of the last step */
     float force_n; /* friction force after the last step */
 } ss_lugre_state_f32_t;
 
@@ -20,6 +20,12 @@ ss_status_t ss_lugre_init_f32(const ss_friction_config_f32_t *cfg, ss_lugre_stat
  * dt_s must be > 0; non-finite input leaves the state unchanged and returns the last force. */
 float ss_lugre_step_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, float dx_m,
                         float dt_s);
+
+/* Force at the current state for a relative velocity v (N), and its slope dF/dv (N s/m) in
+ * *dfdv_ns_per_m when not NULL. step() ends with force_at(dx/dt); the actuator asks for the
+ * velocity at the end of its step instead (docs/model.md, integrator). */
+float ss_lugre_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_lugre_state_f32_t *st,
+                            float v_m_per_s, float *dfdv_ns_per_m);
 
 /* Apply n displacement increments dx_m[i] (each taken in dt_s) and write each force to force_n[i]. */
 ss_status_t ss_lugre_run_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st,

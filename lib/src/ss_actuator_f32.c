@@ -89,12 +89,17 @@ static void rod_flow(const ss_actuator_config_f32_t *cfg, float phi[4])
     phi[3] = e * (co - sigma * si);
 }
 
-static float friction_step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float dx)
+/* Advance the friction state over the drift's relative displacement, then return the force at
+ * relative velocity v_end with its slope dF/dv. */
+static float friction_step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float dx,
+                           float v_end, float *dfdv)
 {
     if (cfg->friction_model == SS_FRICTION_LUGRE) {
-        return ss_lugre_step_f32(&cfg->friction, &st->fr.lugre, dx, cfg->dt_s);
+        (void)ss_lugre_step_f32(&cfg->friction, &st->fr.lugre, dx, cfg->dt_s);
+        return ss_lugre_force_at_f32(&cfg->friction, &st->fr.lugre, v_end, dfdv);
     }
-    return ss_ls_step_f32(&cfg->friction, &st->fr.ls, dx, cfg->dt_s);
+    (void)ss_ls_step_f32(&cfg->friction, &st->fr.ls, dx, cfg->dt_s);
+    return ss_ls_force_at_f32(&cfg->friction, &st->fr.ls, v_end, dfdv);
 }
 
 ss_status_t ss_actuator_init_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
@@ -167,8 +172,15 @@ ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
     st->x_p_m = x_p1;
     st->drive_v = drive_v;
 
-    /* friction at the new relative position, with the mean relative velocity of the drift */
-    st->force_n = friction_step(cfg, st, dx_rel);
+    /* Friction at the new state and at the velocity the step ends with. That velocity depends on
+     * the closing kick, i.e. on the force: solve the linearised relation (implicit in the
+     * damping terms, so a stiff sigma1 costs no stability). */
+    const float v_free = st->v_rod_m_per_s - st->v_slider_m_per_s; /* before the closing kick */
+    const float kick_per_n = half * (inv_mr + inv_mc);             /* relative dv per newton */
+    float dfdv = 0.0f;
+    const float f_free = friction_step(cfg, st, dx_rel, v_free, &dfdv);
+    const float denom = 1.0f + dfdv * kick_per_n;
+    st->force_n = (denom > 0.1f) ? f_free / denom : f_free;
 
     /* kick */
     st->v_rod_m_per_s -= st->force_n * inv_mr * half;

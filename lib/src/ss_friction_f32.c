@@ -52,3 +52,9 @@ float ss_stribeck_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s)
     const float r = v_m_per_s / cfg->vs_m_per_s;
     return cfg->fc_n + (cfg->fs_n - cfg->fc_n) * expf(-r * r);
 }
+
+float ss_stribeck_slope_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s)
+{
+    const float r = v_m_per_s / cfg->vs_m_per_s;
+    return -2.0f * (cfg->fs_n - cfg->fc_n) * r / cfg->vs_m_per_s * expf(-r * r);
+}

@@ -37,7 +37,6 @@ ss_status_t ss_ls_init_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_
     st->fm_n = 0.0f;
     st->kt_n_per_m = cfg->sigma0_n_per_m;
     st->level_n = cfg->fs_n;
-    st->zdot_m_per_s = 0.0f;
     st->force_n = 0.0f;
     st->dir = 0;
     st->depth = 0;
@@ -134,15 +133,25 @@ float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st,
     slip *= breakaway_gate(fabsf(st->fm_n) / cfg->fs_n);
     /* LuGre in the slip: the break-away level s relaxes to g(v_slip) over the distance g/sigma0,
      * exact for a slip velocity frozen over the step. */
-    const float v = dx_m / dt_s;
     const float g = ss_stribeck_f32(cfg, slip / dt_s);
-    const float s_old = st->level_n;
-    st->level_n = g + (s_old - g) * expf(-cfg->sigma0_n_per_m * fabsf(slip) / g);
-    /* dz/dt = v_slip (1 - s/g): LuGre's bristle rate once the contact slides, continuous in v */
-    st->zdot_m_per_s = ss_sign_f32(slip) * (st->level_n - s_old) / (cfg->sigma0_n_per_m * dt_s);
-    st->force_n = (st->level_n / cfg->fs_n) * st->fm_n + cfg->sigma1_ns_per_m * st->zdot_m_per_s +
-                  cfg->sigma2_ns_per_m * v;
+    st->level_n = g + (st->level_n - g) * expf(-cfg->sigma0_n_per_m * fabsf(slip) / g);
+    st->force_n = ss_ls_force_at_f32(cfg, st, dx_m / dt_s, NULL);
     return st->force_n;
+}
+
+float ss_ls_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_ls_state_f32_t *st, float v_m_per_s,
+                         float *dfdv_ns_per_m)
+{
+    /* gross-slip velocity: the share of v the presliding element does not take up elastically */
+    const float share = (1.0f - st->kt_n_per_m / cfg->sigma0_n_per_m) * breakaway_gate(fabsf(st->fm_n) / cfg->fs_n);
+    const float vp = v_m_per_s * share;
+    const float g = ss_stribeck_f32(cfg, vp);
+    const float zdot = vp * (1.0f - st->level_n / g); /* LuGre's dz/dt once sliding, sigma0 z = s */
+    if (dfdv_ns_per_m != NULL) {
+        const float dzdvp = (1.0f - st->level_n / g) + vp * st->level_n * ss_stribeck_slope_f32(cfg, vp) / (g * g);
+        *dfdv_ns_per_m = cfg->sigma1_ns_per_m * share * dzdvp + cfg->sigma2_ns_per_m;
+    }
+    return (st->level_n / cfg->fs_n) * st->fm_n + cfg->sigma1_ns_per_m * zdot + cfg->sigma2_ns_per_m * v_m_per_s;
 }
 
 ss_status_t ss_ls_run_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st,

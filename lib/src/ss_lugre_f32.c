@@ -27,18 +27,31 @@ float ss_lugre_step_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_
         return st->force_n;
     }
     const float v = dx_m / dt_s;
-    const float z_old = st->z_m;
     if (dx_m != 0.0f) {
         /* dz/dx = sgn(v) - sigma0 z / g relaxes z to sgn(v) g / sigma0 over the distance
          * g / sigma0: exact for v frozen over the step, stable for any step. */
         const float g = ss_stribeck_f32(cfg, v);
         const float z_ss = ss_sign_f32(v) * g / cfg->sigma0_n_per_m;
-        st->z_m = z_ss + (z_old - z_ss) * expf(-cfg->sigma0_n_per_m * fabsf(dx_m) / g);
+        st->z_m = z_ss + (st->z_m - z_ss) * expf(-cfg->sigma0_n_per_m * fabsf(dx_m) / g);
     }
-    st->zdot_m_per_s = (st->z_m - z_old) / dt_s;
-    st->force_n = cfg->sigma0_n_per_m * st->z_m + cfg->sigma1_ns_per_m * st->zdot_m_per_s +
-                  cfg->sigma2_ns_per_m * v;
+    st->zdot_m_per_s = v - cfg->sigma0_n_per_m * fabsf(v) * st->z_m / ss_stribeck_f32(cfg, v);
+    st->force_n = ss_lugre_force_at_f32(cfg, st, v, NULL);
     return st->force_n;
+}
+
+float ss_lugre_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_lugre_state_f32_t *st,
+                            float v_m_per_s, float *dfdv_ns_per_m)
+{
+    const float v = v_m_per_s;
+    const float g = ss_stribeck_f32(cfg, v);
+    const float k = cfg->sigma0_n_per_m * st->z_m / g; /* sigma0 z / g */
+    const float zdot = v - fabsf(v) * k;
+    if (dfdv_ns_per_m != NULL) {
+        /* d(dz/dt)/dv = 1 - sgn(v) sigma0 z / g + |v| sigma0 z g' / g^2 */
+        const float dzdv = 1.0f - ss_sign_f32(v) * k + fabsf(v) * k * ss_stribeck_slope_f32(cfg, v) / g;
+        *dfdv_ns_per_m = cfg->sigma1_ns_per_m * dzdv + cfg->sigma2_ns_per_m;
+    }
+    return cfg->sigma0_n_per_m * st->z_m + cfg->sigma1_ns_per_m * zdot + cfg->sigma2_ns_per_m * v;
 }
 
 ss_status_t ss_lugre_run_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st,
