@@ -22,7 +22,9 @@ def settled_step(model: str, dt: float, fall_s: float) -> float:
 def main() -> None:
     for fall in (100e-6, 20e-6):
         print(f"\nfall {fall * 1e6:.0f} us\n")
-        print("| dt (us) | LS step (um) | change on halving | LuGre step (um) | change on halving |")
+        print(
+            "| dt (us) | LS step (um) | change on halving | LuGre step (um) | change on halving |"
+        )
         print("|---|---|---|---|---|")
         prev = {}
         rows = []

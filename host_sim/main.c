@@ -29,23 +29,22 @@ static const scenario_t SCENARIOS[] = {
 
 static void usage(FILE *f)
 {
-    fprintf(f,
-            "usage: stickslip_sim [options]\n"
-            "Simulate the stick-slip actuator (Table I parameters) and write CSV.\n\n"
-            "  --scenario NAME      named run (default: paper), see the list below\n"
-            "  --frequency-hz F     sawtooth frequency\n"
-            "  --amplitude-v A      sawtooth amplitude (44 nm/V piezo gain)\n"
-            "  --offset-v O         sawtooth offset\n"
-            "  --rise-fraction R    share of the period taken by the slow edge, in (0, 1)\n"
-            "  --fall-time-s T      set the fast edge duration instead of --rise-fraction\n"
-            "  --direction D        +1 (forward) or -1 (backward)\n"
-            "  --cycles N           periods played\n"
-            "  --hold-s T           time recorded after the last period (drive at offset)\n"
-            "  --model ls|lugre     friction model (default ls)\n"
-            "  --dt-s DT            integration step (default 1e-6)\n"
-            "  --decimation N       write every N-th step (default 1)\n"
-            "  --out FILE           output CSV (default: standard output)\n"
-            "  --help               this text\n\nscenarios:\n");
+    fprintf(f, "usage: stickslip_sim [options]\n"
+               "Simulate the stick-slip actuator (Table I parameters) and write CSV.\n\n"
+               "  --scenario NAME      named run (default: paper), see the list below\n"
+               "  --frequency-hz F     sawtooth frequency\n"
+               "  --amplitude-v A      sawtooth amplitude (44 nm/V piezo gain)\n"
+               "  --offset-v O         sawtooth offset\n"
+               "  --rise-fraction R    share of the period taken by the slow edge, in (0, 1)\n"
+               "  --fall-time-s T      set the fast edge duration instead of --rise-fraction\n"
+               "  --direction D        +1 (forward) or -1 (backward)\n"
+               "  --cycles N           periods played\n"
+               "  --hold-s T           time recorded after the last period (drive at offset)\n"
+               "  --model ls|lugre     friction model (default ls)\n"
+               "  --dt-s DT            integration step (default 1e-6)\n"
+               "  --decimation N       write every N-th step (default 1)\n"
+               "  --out FILE           output CSV (default: standard output)\n"
+               "  --help               this text\n\nscenarios:\n");
     for (size_t i = 0; i < N_SCENARIOS; ++i) {
         fprintf(f, "  %-14s %s\n", SCENARIOS[i].name, SCENARIOS[i].what);
     }
@@ -86,16 +85,37 @@ static int parse_long(const char *opt, const char *arg, long lo, long hi, long *
 
 int main(int argc, char **argv)
 {
-    enum { O_SCEN = 1, O_F, O_A, O_OFF, O_R, O_FALL, O_DIR, O_CYC, O_HOLD, O_MODEL, O_DT, O_DEC, O_OUT, O_HELP };
-    static const struct option opts[] = {
-        {"scenario", required_argument, NULL, O_SCEN}, {"frequency-hz", required_argument, NULL, O_F},
-        {"amplitude-v", required_argument, NULL, O_A}, {"offset-v", required_argument, NULL, O_OFF},
-        {"rise-fraction", required_argument, NULL, O_R}, {"fall-time-s", required_argument, NULL, O_FALL},
-        {"direction", required_argument, NULL, O_DIR}, {"cycles", required_argument, NULL, O_CYC},
-        {"hold-s", required_argument, NULL, O_HOLD}, {"model", required_argument, NULL, O_MODEL},
-        {"dt-s", required_argument, NULL, O_DT}, {"decimation", required_argument, NULL, O_DEC},
-        {"out", required_argument, NULL, O_OUT}, {"help", no_argument, NULL, O_HELP},
-        {NULL, 0, NULL, 0}};
+    enum {
+        O_SCEN = 1,
+        O_F,
+        O_A,
+        O_OFF,
+        O_R,
+        O_FALL,
+        O_DIR,
+        O_CYC,
+        O_HOLD,
+        O_MODEL,
+        O_DT,
+        O_DEC,
+        O_OUT,
+        O_HELP
+    };
+    static const struct option opts[] = {{"scenario", required_argument, NULL, O_SCEN},
+                                         {"frequency-hz", required_argument, NULL, O_F},
+                                         {"amplitude-v", required_argument, NULL, O_A},
+                                         {"offset-v", required_argument, NULL, O_OFF},
+                                         {"rise-fraction", required_argument, NULL, O_R},
+                                         {"fall-time-s", required_argument, NULL, O_FALL},
+                                         {"direction", required_argument, NULL, O_DIR},
+                                         {"cycles", required_argument, NULL, O_CYC},
+                                         {"hold-s", required_argument, NULL, O_HOLD},
+                                         {"model", required_argument, NULL, O_MODEL},
+                                         {"dt-s", required_argument, NULL, O_DT},
+                                         {"decimation", required_argument, NULL, O_DEC},
+                                         {"out", required_argument, NULL, O_OUT},
+                                         {"help", no_argument, NULL, O_HELP},
+                                         {NULL, 0, NULL, 0}};
 
     const scenario_t *sc = &SCENARIOS[0];
     double f = -1, a = NAN, off = 0, r = -1, fall = -1, hold = 0, dt = 1e-6;
@@ -207,9 +227,11 @@ int main(int argc, char **argv)
     fprintf(out, "t_s,drive_v,x_p_m,x_rod_m,x_slider_m,friction_n,%s\n",
             lugre ? "z_m,zdot_m_per_s" : "level_n,presliding_n");
 
+    /* cppcheck-suppress unassignedVariable ; written by the library through the trace struct */
     static uint32_t step[CHUNK_ROWS];
     static float col[8][CHUNK_ROWS];
-    ss_actuator_trace_f32_t tr = {step, col[0], col[1], col[2], col[3], NULL, NULL, col[4], col[5], col[6], CHUNK_ROWS};
+    ss_actuator_trace_f32_t tr = {step, col[0], col[1], col[2], col[3],    NULL,
+                                  NULL, col[4], col[5], col[6], CHUNK_ROWS};
     ss_actuator_record_f32(&cfg, &st, &tr, 0);
     uint32_t rows = 1;
     uint32_t left = (uint32_t)n_steps_d;

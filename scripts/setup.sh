@@ -2,10 +2,14 @@
 # Set up a fresh Debian machine for stickslip: system packages, the Python virtual environment
 # at .venv (with the `stickslip` command and the C library built into it), and the host build.
 # Idempotent: re-running only does what is missing.
+#   --dev   also the analysers the tests run (clang-format, clang-tidy, cppcheck, gcovr)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 APT_PACKAGES=(cmake ninja-build gcc libc6-dev libcmocka-dev pkg-config)
+if [ "${1:-}" = "--dev" ]; then
+  APT_PACKAGES+=(clang-format clang-tidy cppcheck gcovr)
+fi
 if ! python3 -c 'import venv, ensurepip' >/dev/null 2>&1; then
   APT_PACKAGES+=(python3 python3-venv)
 fi

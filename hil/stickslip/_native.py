@@ -82,7 +82,7 @@ class ActuatorTrace(C.Structure):
     ]
 
 
-TRACE_COLUMNS = [name for name, _ in ActuatorTrace._fields_ if name != "capacity"]
+TRACE_COLUMNS = [f[0] for f in ActuatorTrace._fields_ if f[0] != "capacity"]
 
 # ids of ss_abi.h
 _ABI = {
@@ -131,10 +131,18 @@ _proto("ss_actuator_config_table1_f32", ActuatorConfig)
 _proto("ss_friction_config_table1_f32", FrictionConfig)
 _proto("ss_friction_config_from_mu_f32", FrictionConfig, *([C.c_float] * 7))
 _proto("ss_stribeck_f32", C.c_float, C.POINTER(FrictionConfig), C.c_float)
-_proto("ss_friction_config_check_f32", C.c_int, C.POINTER(FrictionConfig))
+_proto("ss_friction_config_check_f32", C.c_int, C.POINTER(FrictionConfig), C.POINTER(C.c_char_p))
+_proto("ss_actuator_config_check_f32", C.c_int, C.POINTER(ActuatorConfig), C.POINTER(C.c_char_p))
 _proto("ss_actuator_init_f32", C.c_int, C.POINTER(ActuatorConfig), _P, C.c_float)
 _proto("ss_actuator_step_f32", C.c_int, C.POINTER(ActuatorConfig), _P, C.c_float)
-_proto("ss_actuator_record_f32", None, C.POINTER(ActuatorConfig), _P, C.POINTER(ActuatorTrace), C.c_uint32)
+_proto(
+    "ss_actuator_record_f32",
+    None,
+    C.POINTER(ActuatorConfig),
+    _P,
+    C.POINTER(ActuatorTrace),
+    C.c_uint32,
+)
 _proto(
     "ss_actuator_run_f32",
     C.c_int,
@@ -151,7 +159,9 @@ _proto("ss_waveform_init_f32", C.c_int, C.POINTER(WaveformConfig), C.c_float, _P
 _proto("ss_waveform_value_f32", C.c_float, C.POINTER(WaveformConfig), _P)
 for _m in ("ls", "lugre"):
     _proto(f"ss_{_m}_init_f32", C.c_int, C.POINTER(FrictionConfig), _P)
-    _proto(f"ss_{_m}_run_f32", C.c_int, C.POINTER(FrictionConfig), _P, _FP, C.c_uint32, C.c_float, _FP)
+    _proto(
+        f"ss_{_m}_run_f32", C.c_int, C.POINTER(FrictionConfig), _P, _FP, C.c_uint32, C.c_float, _FP
+    )
 
 for _struct, _id in _ABI.items():
     if lib.ss_abi_sizeof(_id) != C.sizeof(_struct):
@@ -173,6 +183,26 @@ class NativeError(ValueError):
 def check(status: int, where: str) -> None:
     if status != SS_OK:
         raise NativeError(status, where)
+
+
+# C field names -> the parameter names users give (stick-slip-dataset/1)
+_USER_NAMES = {
+    "fs_n": "mu_s * normal_force_n (Fs)",
+    "fc_n": "mu_d * normal_force_n (Fc, must not exceed Fs)",
+    "vs_m_per_s": "stribeck_velocity_m_per_s",
+}
+
+
+def check_config(cfg, what: str = "actuator") -> None:
+    """Raise NativeError naming the first bad field of an ActuatorConfig or FrictionConfig."""
+    bad = C.c_char_p()
+    if isinstance(cfg, ActuatorConfig):
+        status = lib.ss_actuator_config_check_f32(C.byref(cfg), C.byref(bad))
+    else:
+        status = lib.ss_friction_config_check_f32(C.byref(cfg), C.byref(bad))
+    if status != SS_OK:
+        field = (bad.value or b"?").decode().removeprefix("friction.")
+        raise NativeError(status, f"{what} parameter {_USER_NAMES.get(field, field)}")
 
 
 def opaque(abi_id: int) -> C.Array:

@@ -7,10 +7,11 @@ import json
 import math
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from .model import MODELS, ActuatorParams, Sawtooth, simulate
+from .model import MODELS, Sawtooth, simulate
 
 
 class CliError(Exception):
@@ -36,14 +37,24 @@ def _finite(name: str):
 
 def _add_waveform_options(p: argparse.ArgumentParser) -> None:
     d = Sawtooth()
-    g = p.add_argument_group("waveform (stick-slip-dataset/1 sawtooth; defaults: the paper's 4.4 um, 500 Hz run)")
+    g = p.add_argument_group(
+        "waveform (stick-slip-dataset/1 sawtooth; defaults: the paper's 4.4 um, 500 Hz run)"
+    )
     g.add_argument("--frequency-hz", type=_finite("--frequency-hz"), default=d.frequency_hz)
     g.add_argument("--amplitude-v", type=_finite("--amplitude-v"), default=d.amplitude_v)
     g.add_argument("--offset-v", type=_finite("--offset-v"), default=d.offset_v)
-    g.add_argument("--rise-fraction", type=_finite("--rise-fraction"), default=None,
-                   help=f"slow-edge share of the period, in (0, 1) (default {d.rise_fraction})")
-    g.add_argument("--fall-time-s", type=_finite("--fall-time-s"), default=None,
-                   help="duration of the fast edge, instead of --rise-fraction")
+    g.add_argument(
+        "--rise-fraction",
+        type=_finite("--rise-fraction"),
+        default=None,
+        help=f"slow-edge share of the period, in (0, 1) (default {d.rise_fraction})",
+    )
+    g.add_argument(
+        "--fall-time-s",
+        type=_finite("--fall-time-s"),
+        default=None,
+        help="duration of the fast edge, instead of --rise-fraction",
+    )
     g.add_argument("--direction", type=int, choices=(1, -1), default=d.direction)
     g.add_argument("--cycles", type=int, default=d.cycles)
 
@@ -59,10 +70,14 @@ def _waveform(a: argparse.Namespace) -> Sawtooth:
     if a.fall_time_s is not None:
         w = w.with_fall_time(a.fall_time_s)
     elif a.rise_fraction is not None:
-        w = Sawtooth(a.frequency_hz, a.amplitude_v, a.offset_v, a.rise_fraction, a.direction, a.cycles)
+        w = Sawtooth(
+            a.frequency_hz, a.amplitude_v, a.offset_v, a.rise_fraction, a.direction, a.cycles
+        )
     if not 0.0 < w.rise_fraction < 1.0:
-        raise CliError(f"rise fraction must be in (0, 1), got {w.rise_fraction:g} "
-                       f"(fall time {w.fall_time_s:g} s at {w.frequency_hz:g} Hz)")
+        raise CliError(
+            f"rise fraction must be in (0, 1), got {w.rise_fraction:g} "
+            f"(fall time {w.fall_time_s:g} s at {w.frequency_hz:g} Hz)"
+        )
     return w
 
 
@@ -79,9 +94,12 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     if a.json:
         print(json.dumps(s, indent=2))
     else:
-        print(f"{a.model}: {w.cycles} cycles at {w.frequency_hz:g} Hz, fall {w.fall_time_s * 1e6:.1f} us: "
-              f"mean step {s['mean_step_per_cycle_m'] * 1e6:.4f} um per cycle"
-              + (f"; wrote {a.out}" if a.out else ""))
+        print(
+            f"{a.model}: {w.cycles} cycles at {w.frequency_hz:g} Hz, "
+            f"fall {w.fall_time_s * 1e6:.1f} us: "
+            f"mean step {s['mean_step_per_cycle_m'] * 1e6:.4f} um per cycle"
+            + (f"; wrote {a.out}" if a.out else "")
+        )
     return 0
 
 
@@ -100,13 +118,17 @@ def _simulate_dataset(a: argparse.Namespace) -> int:
         if run.waveform is not None:
             r = simulate(run.waveform, ds.actuator, a.model, a.dt_s, hold_s=hold)
         else:
-            r = simulate(None, ds.actuator, a.model, a.dt_s, drive_v=run.drive_v, drive_interval_s=run.dt_s)
+            r = simulate(
+                None, ds.actuator, a.model, a.dt_s, drive_v=run.drive_v, drive_interval_s=run.dt_s
+            )
         sim = np.interp(run.t_s - run.t_s[0], r.t_s, r.x_slider_m)
         meas = run.x_m - run.x_m[0]
-        row = {"run": run.id, "rmse_m": float(np.sqrt(np.mean((meas - sim) ** 2)))}
+        row: dict[str, Any] = {"run": run.id, "rmse_m": float(np.sqrt(np.mean((meas - sim) ** 2)))}
         if run.waveform is not None:
             k = np.arange(run.waveform.cycles + 1) * run.waveform.period_s
-            row["measured_mean_step_m"] = float(np.mean(np.diff(np.interp(k, run.t_s - run.t_s[0], meas))))
+            row["measured_mean_step_m"] = float(
+                np.mean(np.diff(np.interp(k, run.t_s - run.t_s[0], meas)))
+            )
             row["simulated_mean_step_m"] = r.mean_step_m
         rows.append(row)
         if out_dir:
@@ -117,8 +139,10 @@ def _simulate_dataset(a: argparse.Namespace) -> int:
         for row in rows:
             extra = ""
             if "measured_mean_step_m" in row:
-                extra = (f", step measured {row['measured_mean_step_m'] * 1e6:.4f} um, "
-                         f"simulated {row['simulated_mean_step_m'] * 1e6:.4f} um")
+                extra = (
+                    f", step measured {row['measured_mean_step_m'] * 1e6:.4f} um, "
+                    f"simulated {row['simulated_mean_step_m'] * 1e6:.4f} um"
+                )
             print(f"{row['run']}: rmse {row['rmse_m'] * 1e9:.1f} nm{extra}")
     return 0
 
@@ -132,21 +156,40 @@ def cmd_figures(a: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="stickslip", description="Simulate, test and identify stick-slip piezo actuators.")
+    p = argparse.ArgumentParser(
+        prog="stickslip", description="Simulate, test and identify stick-slip piezo actuators."
+    )
     sub = p.add_subparsers(dest="command", required=True)
-    s = sub.add_parser("simulate", help="simulate the actuator (Table I parameters) with the C core",
-                       description="Simulate the stick-slip actuator and write CSV and/or a JSON summary.")
+    s = sub.add_parser(
+        "simulate",
+        help="simulate the actuator (Table I parameters) with the C core",
+        description="Simulate the stick-slip actuator and write CSV and/or a JSON summary.",
+    )
     _add_waveform_options(s)
     s.add_argument("--model", choices=MODELS, default="ls", help="friction model (default ls)")
-    s.add_argument("--dt-s", type=_finite("--dt-s"), default=1e-6, help="integration step (default 1e-6)")
-    s.add_argument("--hold-s", type=_finite("--hold-s"), default=0.0, help="time simulated after the last period")
+    s.add_argument(
+        "--dt-s", type=_finite("--dt-s"), default=1e-6, help="integration step (default 1e-6)"
+    )
+    s.add_argument(
+        "--hold-s",
+        type=_finite("--hold-s"),
+        default=0.0,
+        help="time simulated after the last period",
+    )
     s.add_argument("--decimation", type=int, default=1, help="keep every N-th step in the CSV")
     s.add_argument("--out", help="CSV file to write (with --dataset: a folder for one CSV per run)")
-    s.add_argument("--json", action="store_true", help="print a JSON summary (includes mean_step_per_cycle_m)")
-    s.add_argument("--dataset", help="simulate every run of this dataset with its nominal parameters")
+    s.add_argument(
+        "--json", action="store_true", help="print a JSON summary (includes mean_step_per_cycle_m)"
+    )
+    s.add_argument(
+        "--dataset", help="simulate every run of this dataset with its nominal parameters"
+    )
     s.set_defaults(func=cmd_simulate)
-    f = sub.add_parser("figures", help="reproduce the LS paper's figures as PNGs",
-                       description="Reproduce Figs. 3-9 and 13 of the LS paper from the C core.")
+    f = sub.add_parser(
+        "figures",
+        help="reproduce the LS paper's figures as PNGs",
+        description="Reproduce Figs. 3-9 and 13 of the LS paper from the C core.",
+    )
     f.add_argument("--out", default="out/figures", help="folder for the PNGs and figures.json")
     f.set_defaults(func=cmd_figures)
     return p

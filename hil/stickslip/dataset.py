@@ -24,7 +24,9 @@ UNIFORM_RTOL = 1e-4
 class DatasetError(ValueError):
     """A dataset that breaks the format; says where."""
 
-    def __init__(self, file: str | Path, message: str, row: int | None = None, column: str | None = None):
+    def __init__(
+        self, file: str | Path, message: str, row: int | None = None, column: str | None = None
+    ):
         self.file, self.row, self.column = str(file), row, column
         where = self.file
         if row is not None:
@@ -73,7 +75,7 @@ class Dataset:
 def read_run_csv(path: Path) -> tuple[list[str], np.ndarray]:
     """Columns and values of one run file, validated cell by cell."""
     try:
-        f = open(path, newline="")
+        f = open(path, newline="")  # noqa: SIM115 (closed by the with below; open errors named here)
     except OSError as e:
         raise DatasetError(path, f"cannot open: {e.strerror}") from None
     with f:
@@ -86,7 +88,12 @@ def read_run_csv(path: Path) -> tuple[list[str], np.ndarray]:
             raise DatasetError(path, f"unreadable header: {e}", row=1) from None
         for name in REQUIRED_COLUMNS:
             if name not in header:
-                raise DatasetError(path, f"header lacks required column {name!r} (has {header})", row=1, column=name)
+                raise DatasetError(
+                    path,
+                    f"header lacks required column {name!r} (has {header})",
+                    row=1,
+                    column=name,
+                )
         if len(set(header)) != len(header):
             raise DatasetError(path, f"duplicate column names in header {header}", row=1)
         rows: list[list[float]] = []
@@ -96,15 +103,21 @@ def read_run_csv(path: Path) -> tuple[list[str], np.ndarray]:
                 if not cells or all(not c.strip() for c in cells):
                     raise DatasetError(path, "empty row", row=line)
                 if len(cells) != len(header):
-                    raise DatasetError(path, f"{len(cells)} cells, header has {len(header)}", row=line)
+                    raise DatasetError(
+                        path, f"{len(cells)} cells, header has {len(header)}", row=line
+                    )
                 vals = []
                 for name, cell in zip(header, cells):
                     try:
                         v = float(cell)
                     except ValueError:
-                        raise DatasetError(path, f"not a number: {cell!r}", row=line, column=name) from None
+                        raise DatasetError(
+                            path, f"not a number: {cell!r}", row=line, column=name
+                        ) from None
                     if not math.isfinite(v):
-                        raise DatasetError(path, f"not a finite number: {cell!r}", row=line, column=name)
+                        raise DatasetError(
+                            path, f"not a finite number: {cell!r}", row=line, column=name
+                        )
                     vals.append(v)
                 rows.append(vals)
         except (csv.Error, UnicodeDecodeError) as e:
@@ -117,13 +130,21 @@ def read_run_csv(path: Path) -> tuple[list[str], np.ndarray]:
     bad = np.nonzero(dt <= 0)[0]
     if bad.size:
         i = int(bad[0])
-        raise DatasetError(path, f"time not ascending: {float(t[i + 1])!r} after {float(t[i])!r}", row=i + 3, column="t_s")
+        raise DatasetError(
+            path,
+            f"time not ascending: {float(t[i + 1])!r} after {float(t[i])!r}",
+            row=i + 3,
+            column="t_s",
+        )
     step = (t[-1] - t[0]) / (len(t) - 1)
     off = np.nonzero(np.abs(dt - step) > UNIFORM_RTOL * step)[0]
     if off.size:
         i = int(off[0])
         raise DatasetError(
-            path, f"not uniformly sampled: interval {float(dt[i])!r} s, mean {float(step)!r} s", row=i + 3, column="t_s"
+            path,
+            f"not uniformly sampled: interval {float(dt[i])!r} s, mean {float(step)!r} s",
+            row=i + 3,
+            column="t_s",
         )
     return header, data
 
@@ -156,8 +177,15 @@ def load(path: str | Path) -> Dataset:
         for k in ("resolution_m", "noise_rms_m"):
             if k in s:
                 v = s[k]
-                if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
-                    raise DatasetError(meta_path, f"sensor.{k}: expected a finite number >= 0, got {v!r}")
+                if (
+                    isinstance(v, bool)
+                    or not isinstance(v, (int, float))
+                    or not math.isfinite(v)
+                    or v < 0
+                ):
+                    raise DatasetError(
+                        meta_path, f"sensor.{k}: expected a finite number >= 0, got {v!r}"
+                    )
                 setattr(sensor, k, float(v))
     runs_meta = meta.get("runs")
     if not isinstance(runs_meta, list) or not runs_meta:
@@ -165,14 +193,20 @@ def load(path: str | Path) -> Dataset:
     runs, seen = [], set()
     for i, rm in enumerate(runs_meta):
         where = f"runs[{i}]"
-        if not isinstance(rm, dict) or not isinstance(rm.get("id"), str) or not isinstance(rm.get("file"), str):
+        if (
+            not isinstance(rm, dict)
+            or not isinstance(rm.get("id"), str)
+            or not isinstance(rm.get("file"), str)
+        ):
             raise DatasetError(meta_path, f"{where}: needs string 'id' and 'file'")
         if rm["id"] in seen:
             raise DatasetError(meta_path, f"{where}: duplicate run id {rm['id']!r}")
         seen.add(rm["id"])
         file = (root / rm["file"]).resolve()
         if root.resolve() not in file.parents:
-            raise DatasetError(meta_path, f"{where}.file: {rm['file']!r} is outside the dataset folder")
+            raise DatasetError(
+                meta_path, f"{where}.file: {rm['file']!r} is outside the dataset folder"
+            )
         waveform = None
         if rm.get("waveform") is not None:
             try:
@@ -196,8 +230,13 @@ def load(path: str | Path) -> Dataset:
     return Dataset(root, desc if isinstance(desc, str) else "", actuator, runs, sensor)
 
 
-def write(path: str | Path, actuator: ActuatorParams, runs: list[Run], description: str = "",
-          sensor: Sensor | None = None) -> Path:
+def write(
+    path: str | Path,
+    actuator: ActuatorParams,
+    runs: list[Run],
+    description: str = "",
+    sensor: Sensor | None = None,
+) -> Path:
     """Write a dataset folder (used by the generators and the HIL recorder)."""
     root = Path(path)
     root.mkdir(parents=True, exist_ok=True)
@@ -209,7 +248,14 @@ def write(path: str | Path, actuator: ActuatorParams, runs: list[Run], descripti
         name = f"{r.id}.csv"
         cols = [r.t_s, r.drive_v, r.x_m, *r.extra.values()]
         header = ",".join(["t_s", "drive_v", "x_m", *r.extra.keys()])
-        np.savetxt(root / name, np.column_stack(cols), delimiter=",", header=header, comments="", fmt="%.10g")
+        np.savetxt(
+            root / name,
+            np.column_stack(cols),
+            delimiter=",",
+            header=header,
+            comments="",
+            fmt="%.10g",
+        )
         entry: dict = {"id": r.id, "file": name}
         if r.waveform is not None:
             entry["waveform"] = r.waveform.to_dict()

@@ -5,8 +5,10 @@ objects only. `make_all` writes the PNGs and figures.json."""
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -35,14 +37,14 @@ class StribeckFigure:
 
 def stribeck_figure(p: ActuatorParams = PARAMS) -> StribeckFigure:
     v = np.logspace(-6, -1.5, 28)
-    steady = []
+    steady_list = []
     for vi in v:
         # slide 30 presliding lengths at constant speed: the level settles to g(v)
         dist = 30 * p.fs_n / p.sigma0_n_per_m
         n = 3000
         x = np.linspace(0, dist, n + 1)
-        steady.append(friction_response(x, dist / n / vi, "ls", p)[-1])
-    steady = np.array(steady)
+        steady_list.append(friction_response(x, dist / n / vi, "ls", p)[-1])
+    steady = np.array(steady_list)
     expected = stribeck(v, p) + p.sigma2_ns_per_m * v
     # constant acceleration from rest (the paper's quasi-static ramp): presliding, break-away,
     # Stribeck dip, viscous rise
@@ -72,7 +74,9 @@ class HysteresisFigure:
     claims: dict = field(default_factory=dict)
 
 
-def hysteresis_figure(p: ActuatorParams = PARAMS, amplitude_m: float = 0.3e-6, f_hz: float = 10.0) -> HysteresisFigure:
+def hysteresis_figure(
+    p: ActuatorParams = PARAMS, amplitude_m: float = 0.3e-6, f_hz: float = 10.0
+) -> HysteresisFigure:
     t, x, dt = _sine_path(amplitude_m, f_hz, 2)
     f = friction_response(x, dt, "ls", p)
     last = slice(len(t) // 2, None)
@@ -82,7 +86,11 @@ def hysteresis_figure(p: ActuatorParams = PARAMS, amplitude_m: float = 0.3e-6, f
     # force at x = 0 on the rising and the falling branch
     up = fs[np.argmin(np.abs(xs) + (v[: len(xs)] < 0) * 1e9)]
     down = fs[np.argmin(np.abs(xs) + (v[: len(xs)] > 0) * 1e9)]
-    claims = {"loop_area_j": area, "force_gap_at_x0_n": float(up - down), "amplitude_m": amplitude_m}
+    claims = {
+        "loop_area_j": area,
+        "force_gap_at_x0_n": float(up - down),
+        "amplitude_m": amplitude_m,
+    }
     return HysteresisFigure(xs, v, fs, claims)
 
 
@@ -265,12 +273,16 @@ def _plt():
 def plot_stribeck(fig: StribeckFigure, path: Path) -> None:
     plt = _plt()
     f, ax = plt.subplots(1, 2, figsize=(10, 4))
-    ax[0].semilogx(fig.v_m_per_s * 1e3, fig.force_steady_n, "o", label="LS, steady sliding (C core)")
+    ax[0].semilogx(
+        fig.v_m_per_s * 1e3, fig.force_steady_n, "o", label="LS, steady sliding (C core)"
+    )
     ax[0].semilogx(fig.v_m_per_s * 1e3, fig.force_expected_n, "-", label="g(v) + sigma2 v")
     ax[0].set(xlabel="velocity (mm/s)", ylabel="friction (N)", title="Stribeck curve (Fig. 3)")
     ax[0].legend()
     ax[1].plot(fig.ramp_v * 1e3, fig.ramp_f)
-    ax[1].set(xlabel="velocity (mm/s)", ylabel="friction (N)", title="constant acceleration from rest")
+    ax[1].set(
+        xlabel="velocity (mm/s)", ylabel="friction (N)", title="constant acceleration from rest"
+    )
     f.tight_layout()
     f.savefig(path, dpi=110)
     plt.close(f)
@@ -280,7 +292,9 @@ def plot_hysteresis(fig: HysteresisFigure, path: Path) -> None:
     plt = _plt()
     f, ax = plt.subplots(1, 2, figsize=(10, 4))
     ax[0].plot(fig.x_m * 1e6, fig.f_n)
-    ax[0].set(xlabel="displacement (um)", ylabel="friction (N)", title="LS presliding hysteresis (Fig. 4)")
+    ax[0].set(
+        xlabel="displacement (um)", ylabel="friction (N)", title="LS presliding hysteresis (Fig. 4)"
+    )
     ax[1].plot(fig.v_m_per_s * 1e3, fig.f_n)
     ax[1].set(xlabel="velocity (mm/s)", ylabel="friction (N)", title="friction against velocity")
     f.tight_layout()
@@ -292,8 +306,13 @@ def plot_memory(fig: MemoryFigure, path: Path) -> None:
     plt = _plt()
     f, ax = plt.subplots(1, 3, figsize=(14, 4))
     ax[0].plot(fig.t_s * 1e3, fig.x_m * 1e6)
-    ax[0].set(xlabel="time (ms)", ylabel="displacement (um)", title="random periodic excitation (Fig. 5)")
-    for a, fo, name in ((ax[1], fig.f_lugre, "LuGre: drifts (Fig. 6)"), (ax[2], fig.f_ls, "LS: closed loops (Fig. 7)")):
+    ax[0].set(
+        xlabel="time (ms)", ylabel="displacement (um)", title="random periodic excitation (Fig. 5)"
+    )
+    for a, fo, name in (
+        (ax[1], fig.f_lugre, "LuGre: drifts (Fig. 6)"),
+        (ax[2], fig.f_ls, "LS: closed loops (Fig. 7)"),
+    ):
         n = fig.period_samples
         for k in range(len(fig.x_m) // n):
             s = slice(k * n, (k + 1) * n + 1)
@@ -324,8 +343,12 @@ def plot_actuator(fig: ActuatorFigure, path: Path) -> None:
     ax.plot(fig.t_s * 1e3, fig.x_p_m * 1e6, lw=0.8, label="ideal piezo strain x_p")
     ax.plot(fig.t_s * 1e3, fig.x_rod_m * 1e6, lw=0.8, label="rod x_R")
     ax.plot(fig.t_s * 1e3, fig.x_slider_m * 1e6, lw=1.5, label="slider x_c")
-    ax.set(xlabel="time (ms)", ylabel="displacement (um)",
-           title=f"4.4 um, 500 Hz sawtooth (Fig. 13): {fig.claims['mean_step_m'] * 1e6:.2f} um per cycle")
+    ax.set(
+        xlabel="time (ms)",
+        ylabel="displacement (um)",
+        title=f"4.4 um, 500 Hz sawtooth (Fig. 13): "
+        f"{fig.claims['mean_step_m'] * 1e6:.2f} um per cycle",
+    )
     ax.legend()
     f.tight_layout()
     f.savefig(path, dpi=110)
@@ -338,14 +361,18 @@ def plot_fall_time(fig: FallTimeFigure, path: Path) -> None:
     ax.plot(fig.fall_s * 1e6, fig.step_ls_m * 1e6, "o-", label="LS")
     ax.plot(fig.fall_s * 1e6, fig.step_lugre_m * 1e6, "s--", label="LuGre")
     ax.axhline(0, color="k", lw=0.5)
-    ax.set(xlabel="fall time (us)", ylabel="step per cycle (um)", title="step against fall time, 500 Hz, 4.4 um")
+    ax.set(
+        xlabel="fall time (us)",
+        ylabel="step per cycle (um)",
+        title="step against fall time, 500 Hz, 4.4 um",
+    )
     ax.legend()
     f.tight_layout()
     f.savefig(path, dpi=110)
     plt.close(f)
 
 
-FIGURES = {
+FIGURES: dict[str, tuple[Callable[[], Any], Callable[[Any, Path], None]]] = {
     "fig03_stribeck": (stribeck_figure, plot_stribeck),
     "fig04_hysteresis": (hysteresis_figure, plot_hysteresis),
     "fig05_07_memory": (memory_figure, plot_memory),

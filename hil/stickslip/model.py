@@ -6,6 +6,7 @@ import ctypes as C
 import math
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -108,7 +109,7 @@ class Sawtooth:
     def from_dict(cls, d: dict, where: str = "waveform") -> Sawtooth:
         if d.get("shape") != "sawtooth":
             raise ValueError(f"{where}.shape: only 'sawtooth' is defined, got {d.get('shape')!r}")
-        kw = {}
+        kw: dict[str, Any] = {}
         for f in fields(cls):
             if f.name not in d:
                 raise ValueError(f"{where}: missing key {f.name!r}")
@@ -223,7 +224,9 @@ class SimResult:
             self.state_b,
         ]
         header = f"t_s,drive_v,x_p_m,x_rod_m,x_slider_m,friction_n,{a},{b}"
-        np.savetxt(path, np.column_stack(cols), delimiter=",", header=header, comments="", fmt="%.9g")
+        np.savetxt(
+            path, np.column_stack(cols), delimiter=",", header=header, comments="", fmt="%.9g"
+        )
 
 
 def _run_native(cfg, wave_cfg, n_steps: int, decimation: int, keep=None) -> dict[str, np.ndarray]:
@@ -262,6 +265,7 @@ def simulate(
     drive_interval_s, linearly interpolated), with the C model."""
     params = params or ActuatorParams.table1()
     cfg = params.actuator_config(model, dt_s)
+    N.check_config(cfg)
     if drive_v is None:
         waveform = waveform or Sawtooth()
         wave_cfg = waveform.config()
@@ -314,6 +318,7 @@ def friction_response(
     params = params or ActuatorParams.table1()
     kind = _model_id(model)
     fcfg = params.friction_config()
+    N.check_config(fcfg, "friction")
     dx = np.ascontiguousarray(np.diff(np.asarray(x_m, np.float64), prepend=x_m[0]), np.float32)
     out = np.zeros_like(dx)
     st = N.new_friction_state(kind)
@@ -323,7 +328,9 @@ def friction_response(
         else (N.lib.ss_ls_init_f32, N.lib.ss_ls_run_f32)
     )
     N.check(init(C.byref(fcfg), st), "friction parameters")
-    N.check(run(C.byref(fcfg), st, N.float_ptr(dx), len(dx), dt_s, N.float_ptr(out)), "friction run")
+    N.check(
+        run(C.byref(fcfg), st, N.float_ptr(dx), len(dx), dt_s, N.float_ptr(out)), "friction run"
+    )
     return out.astype(np.float64)
 
 

@@ -61,6 +61,13 @@ class ReferenceResult:
         return np.diff(self.slider_at(k))
 
 
+def _event(fn, direction: int):
+    """Mark fn as a terminal solve_ivp event crossing zero in the given direction."""
+    fn.terminal = True
+    fn.direction = direction
+    return fn
+
+
 def _corners(w: Sawtooth) -> list[float]:
     """Times where the drive has a corner (edges of every period)."""
     r = w.rise_fraction if w.direction > 0 else 1.0 - w.rise_fraction
@@ -151,21 +158,29 @@ def simulate_reference(
         seg = (t0, t1, ua - slope * (ta - t0), ub + slope * (t1 - tb))
         t = t0
         while t < t1:
+
             def ev_rev(tt, yy, *_):
                 return yy[1] - yy[3]
 
-            ev_rev.terminal, ev_rev.direction = True, -d
-            events = [ev_rev]
+            events = [_event(ev_rev, -d)]
             xcl = mem.closure() if model == "ls" else None
             if xcl is not None:
+
                 def ev_close(tt, yy, dd, _seg, xcl=xcl):
                     return dd * ((yy[0] - yy[2]) - xcl)
 
-                ev_close.terminal, ev_close.direction = True, 1
-                events.append(ev_close)
+                events.append(_event(ev_close, 1))
             sol = solve_ivp(
-                rhs, (t, t1), y, method="Radau", rtol=rtol, atol=atol, events=events,
-                args=(d, seg), dense_output=False, max_step=(t1 - t0),
+                rhs,
+                (t, t1),
+                y,
+                method="Radau",
+                rtol=rtol,
+                atol=atol,
+                events=events,
+                args=(d, seg),
+                dense_output=False,
+                max_step=(t1 - t0),
             )
             if sol.status < 0:
                 raise RuntimeError(f"reference solver failed at t={t}: {sol.message}")
@@ -191,4 +206,6 @@ def simulate_reference(
                         del mem.rev[-2:]
                     else:
                         mem.rev.clear()
-    return ReferenceResult(np.array(ts), np.array(xr), np.array(xc), np.array(ff), waveform, reversals)
+    return ReferenceResult(
+        np.array(ts), np.array(xr), np.array(xc), np.array(ff), waveform, reversals
+    )

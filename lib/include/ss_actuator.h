@@ -31,14 +31,14 @@ typedef struct {
 } ss_position_f32_t;
 
 typedef struct {
-    float x_rod_m, v_rod_m_per_s;       /* rod position and velocity */
-    ss_position_f32_t x_slider;         /* slider position */
+    float x_rod_m, v_rod_m_per_s; /* rod position and velocity */
+    ss_position_f32_t x_slider;   /* slider position */
     float v_slider_m_per_s;
-    float x_p_m;                        /* ideal piezo strain at the current time */
-    float drive_v;                      /* drive voltage at the current time */
-    float force_n;                      /* friction on the slider (on the rod: -force_n) */
-    uint32_t steps;                     /* steps taken since init */
-    float phi[4];                       /* rod flow over dt: [e, de/dt] -> phi * [e, de/dt] */
+    float x_p_m;    /* ideal piezo strain at the current time */
+    float drive_v;  /* drive voltage at the current time */
+    float force_n;  /* friction on the slider (on the rod: -force_n) */
+    uint32_t steps; /* steps taken since init */
+    float phi[4];   /* rod flow over dt: [e, de/dt] -> phi * [e, de/dt] */
     union {
         ss_ls_state_f32_t ls;
         ss_lugre_state_f32_t lugre;
@@ -47,6 +47,10 @@ typedef struct {
 
 /* Table I of the LS paper (LS friction, gain 44 nm/V so 100 V is the paper's 4.4 um), dt 1 us. */
 ss_actuator_config_f32_t ss_actuator_config_table1_f32(void);
+
+/* SS_OK or the first problem with cfg; *bad_field (when not NULL) names the field, e.g.
+ * "rod_mass_kg" or "friction.fc_n". */
+ss_status_t ss_actuator_config_check_f32(const ss_actuator_config_f32_t *cfg, const char **bad_field);
 
 /* Validate cfg and put the actuator at rest under drive0_v (rod at its static equilibrium). */
 ss_status_t ss_actuator_init_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
@@ -69,8 +73,8 @@ typedef struct {
     float *v_rod_m_per_s;
     float *v_slider_m_per_s;
     float *force_n;
-    float *state_a; /* LS: break-away level s (N);    LuGre: bristle z (m) */
-    float *state_b; /* LS: presliding force F_M (N); LuGre: dz/dt (m/s) */
+    float *state_a;    /* LS: break-away level s (N);    LuGre: bristle z (m) */
+    float *state_b;    /* LS: presliding force F_M (N); LuGre: dz/dt (m/s) */
     uint32_t capacity; /* rows the buffers hold */
 } ss_actuator_trace_f32_t;
 

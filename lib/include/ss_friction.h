@@ -6,12 +6,12 @@
 #include "ss_status.h"
 
 typedef struct {
-    float fs_n;              /* static (break-away) friction Fs = mu_s * N, (0, 1e4] */
-    float fc_n;              /* Coulomb friction Fc = mu_d * N, (0, Fs] */
-    float vs_m_per_s;        /* Stribeck velocity, [1e-9, 10] */
-    float sigma0_n_per_m;    /* initial contact stiffness, [1, 1e12] */
-    float sigma1_ns_per_m;   /* micro-damping, [0, 1e6] */
-    float sigma2_ns_per_m;   /* viscous friction, [0, 1e6] */
+    float fs_n;            /* static (break-away) friction Fs = mu_s * N, (0, 1e4] */
+    float fc_n;            /* Coulomb friction Fc = mu_d * N, (0, Fs] */
+    float vs_m_per_s;      /* Stribeck velocity, [1e-9, 10] */
+    float sigma0_n_per_m;  /* initial contact stiffness, [1, 1e12] */
+    float sigma1_ns_per_m; /* micro-damping, [0, 1e6] */
+    float sigma2_ns_per_m; /* viscous friction, [0, 1e6] */
 } ss_friction_config_f32_t;
 
 /* Table I of the LS paper: mu_s 0.36, mu_d 0.30, N 10 N, vs 0.4 mm/s, sigma 1e7/80/8. */
@@ -22,8 +22,9 @@ ss_friction_config_f32_t ss_friction_config_from_mu_f32(float mu_s, float mu_d, 
                                                         float vs_m_per_s, float sigma0_n_per_m,
                                                         float sigma1_ns_per_m, float sigma2_ns_per_m);
 
-/* SS_OK, SS_ERR_NULL, SS_ERR_NONFINITE or SS_ERR_RANGE (ranges above). */
-ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg);
+/* SS_OK, SS_ERR_NULL, SS_ERR_NONFINITE or SS_ERR_RANGE (ranges above). On error, *bad_field
+ * (when bad_field is not NULL) names the offending field, e.g. "fc_n"; on success it is "". */
+ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg, const char **bad_field);
 
 /* Stribeck curve g(v) in N: Fs at rest, Fc in fast sliding. */
 float ss_stribeck_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s);

@@ -15,8 +15,8 @@
 #define SS_LS_MEMORY_DEPTH 32
 
 typedef struct {
-    float x_m;  /* reversal position in the element's local frame */
-    float f_n;  /* presliding force F_M at that point */
+    float x_m; /* reversal position in the element's local frame */
+    float f_n; /* presliding force F_M at that point */
 } ss_ls_reversal_f32_t;
 
 typedef struct {
@@ -36,8 +36,7 @@ ss_status_t ss_ls_init_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_
 /* Advance by a relative displacement dx_m taken in dt_s, return the force in N.
  * The presliding part depends on the path of x only (rate independent); dt_s enters through
  * the slip velocity of the LuGre part and the viscous term. dt_s must be > 0. */
-float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m,
-                     float dt_s);
+float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m, float dt_s);
 
 /* Force at the current state for a relative velocity v (N), and its slope dF/dv (N s/m) in
  * *dfdv_ns_per_m when not NULL. step() ends with force_at(dx/dt); the actuator asks for the

@@ -9,9 +9,9 @@
 #include "ss_friction.h"
 
 typedef struct {
-    float z_m;     /* mean bristle deflection */
+    float z_m;          /* mean bristle deflection */
     float zdot_m_per_s; /* dz/dt at the end of the last step */
-    float force_n; /* friction force after the last step */
+    float force_n;      /* friction force after the last step */
 } ss_lugre_state_f32_t;
 
 ss_status_t ss_lugre_init_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st);
@@ -28,7 +28,7 @@ float ss_lugre_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_lugre_
                             float v_m_per_s, float *dfdv_ns_per_m);
 
 /* Apply n displacement increments dx_m[i] (each taken in dt_s) and write each force to force_n[i]. */
-ss_status_t ss_lugre_run_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st,
-                             const float *dx_m, uint32_t n, float dt_s, float *force_n);
+ss_status_t ss_lugre_run_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, const float *dx_m,
+                             uint32_t n, float dt_s, float *force_n);
 
 #endif /* SS_LUGRE_H */

@@ -10,31 +10,30 @@
 typedef enum { SS_WAVE_SAWTOOTH = 0, SS_WAVE_SAMPLED = 1 } ss_waveform_kind_t;
 
 typedef struct {
-    int32_t kind;            /* ss_waveform_kind_t */
+    int32_t kind; /* ss_waveform_kind_t */
     /* sawtooth */
-    float frequency_hz;      /* (0, 1e6] */
-    float amplitude_v;       /* finite, |A| <= 1e5 */
-    float offset_v;          /* finite, |offset| <= 1e5 */
-    float rise_fraction;     /* (0, 1): slow edge share of the period */
-    int32_t direction;       /* +1 slow rise then fast fall; -1 the period reversed in time */
-    uint32_t cycles;         /* periods played; afterwards the drive holds offset_v */
+    float frequency_hz;  /* (0, 1e6] */
+    float amplitude_v;   /* finite, |A| <= 1e5 */
+    float offset_v;      /* finite, |offset| <= 1e5 */
+    float rise_fraction; /* (0, 1): slow edge share of the period */
+    int32_t direction;   /* +1 slow rise then fast fall; -1 the period reversed in time */
+    uint32_t cycles;     /* periods played; afterwards the drive holds offset_v */
     /* sampled: linear interpolation, held at the last sample after the end */
-    const float *samples_v;  /* caller-owned, n_samples >= 1 */
+    const float *samples_v; /* caller-owned, n_samples >= 1 */
     uint32_t n_samples;
     float sample_interval_s; /* (0, 1e3] */
 } ss_waveform_config_f32_t;
 
 typedef struct {
-    float period_s;  /* sawtooth period or sample interval */
-    float dt_s;      /* player step */
-    float tau0_s;    /* time into the current period at j = 0 */
-    uint32_t index;  /* period (sawtooth) or sample (sampled) index */
-    uint32_t j;      /* steps since tau0 */
+    float period_s; /* sawtooth period or sample interval */
+    float dt_s;     /* player step */
+    float tau0_s;   /* time into the current period at j = 0 */
+    uint32_t index; /* period (sawtooth) or sample (sampled) index */
+    uint32_t j;     /* steps since tau0 */
 } ss_waveform_state_f32_t;
 
 ss_waveform_config_f32_t ss_waveform_sawtooth_f32(float frequency_hz, float amplitude_v, float offset_v,
-                                                  float rise_fraction, int32_t direction,
-                                                  uint32_t cycles);
+                                                  float rise_fraction, int32_t direction, uint32_t cycles);
 
 /* Validate cfg and start the player at t = 0 with step dt_s. */
 ss_status_t ss_waveform_init_f32(const ss_waveform_config_f32_t *cfg, float dt_s,

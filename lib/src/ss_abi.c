@@ -5,23 +5,14 @@
 uint32_t ss_abi_sizeof(int32_t which)
 {
     switch (which) {
-    case SS_ABI_FRICTION_CONFIG_F32:
-        return (uint32_t)sizeof(ss_friction_config_f32_t);
-    case SS_ABI_ACTUATOR_CONFIG_F32:
-        return (uint32_t)sizeof(ss_actuator_config_f32_t);
-    case SS_ABI_ACTUATOR_STATE_F32:
-        return (uint32_t)sizeof(ss_actuator_state_f32_t);
-    case SS_ABI_WAVEFORM_CONFIG_F32:
-        return (uint32_t)sizeof(ss_waveform_config_f32_t);
-    case SS_ABI_WAVEFORM_STATE_F32:
-        return (uint32_t)sizeof(ss_waveform_state_f32_t);
-    case SS_ABI_LS_STATE_F32:
-        return (uint32_t)sizeof(ss_ls_state_f32_t);
-    case SS_ABI_LUGRE_STATE_F32:
-        return (uint32_t)sizeof(ss_lugre_state_f32_t);
-    case SS_ABI_ACTUATOR_TRACE_F32:
-        return (uint32_t)sizeof(ss_actuator_trace_f32_t);
-    default:
-        return 0u;
+    case SS_ABI_FRICTION_CONFIG_F32: return (uint32_t)sizeof(ss_friction_config_f32_t);
+    case SS_ABI_ACTUATOR_CONFIG_F32: return (uint32_t)sizeof(ss_actuator_config_f32_t);
+    case SS_ABI_ACTUATOR_STATE_F32: return (uint32_t)sizeof(ss_actuator_state_f32_t);
+    case SS_ABI_WAVEFORM_CONFIG_F32: return (uint32_t)sizeof(ss_waveform_config_f32_t);
+    case SS_ABI_WAVEFORM_STATE_F32: return (uint32_t)sizeof(ss_waveform_state_f32_t);
+    case SS_ABI_LS_STATE_F32: return (uint32_t)sizeof(ss_ls_state_f32_t);
+    case SS_ABI_LUGRE_STATE_F32: return (uint32_t)sizeof(ss_lugre_state_f32_t);
+    case SS_ABI_ACTUATOR_TRACE_F32: return (uint32_t)sizeof(ss_actuator_trace_f32_t);
+    default: return 0u;
     }
 }

@@ -2,6 +2,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "ss_check.h"
 
@@ -33,29 +34,50 @@ static void position_add(ss_position_f32_t *p, float dx)
     p->hi_m = t;
 }
 
-static ss_status_t check_config(const ss_actuator_config_f32_t *cfg)
+ss_status_t ss_actuator_config_check_f32(const ss_actuator_config_f32_t *cfg, const char **bad_field)
 {
-    const float lims[6][3] = {
-        {cfg->piezo_stiffness_n_per_m, 1.0f, 1e12f},
-        {cfg->piezo_damping_kg_per_s, 0.0f, 1e6f},
-        {cfg->rod_mass_kg, 1e-9f, 1e3f},
-        {cfg->slider_mass_kg, 1e-9f, 1e3f},
-        {cfg->piezo_gain_m_per_v, -1e-3f, 1e-3f},
-        {cfg->dt_s, 1e-9f, 1e-3f},
+    const char *dummy = "";
+    const char **bad = (bad_field != NULL) ? bad_field : &dummy;
+    *bad = "";
+    if (cfg == NULL) {
+        *bad = "config";
+        return SS_ERR_NULL;
+    }
+    const ss_range_f32_t ranges[] = {
+        {"piezo_stiffness_n_per_m", cfg->piezo_stiffness_n_per_m, 1.0f, 1e12f},
+        {"piezo_damping_kg_per_s", cfg->piezo_damping_kg_per_s, 0.0f, 1e6f},
+        {"rod_mass_kg", cfg->rod_mass_kg, 1e-9f, 1e3f},
+        {"slider_mass_kg", cfg->slider_mass_kg, 1e-9f, 1e3f},
+        {"piezo_gain_m_per_v", cfg->piezo_gain_m_per_v, -1e-3f, 1e-3f},
+        {"dt_s", cfg->dt_s, 1e-9f, 1e-3f},
     };
-    for (int i = 0; i < 6; ++i) {
-        ss_status_t st = ss_check_range_f32(lims[i][0], lims[i][1], lims[i][2]);
-        if (st != SS_OK) {
-            return st;
-        }
+    ss_status_t st = ss_check_ranges_f32(ranges, sizeof ranges / sizeof ranges[0], bad);
+    if (st != SS_OK) {
+        return st;
     }
     if (cfg->piezo_gain_m_per_v == 0.0f) {
+        *bad = "piezo_gain_m_per_v";
         return SS_ERR_RANGE;
     }
     if (cfg->friction_model != SS_FRICTION_LS && cfg->friction_model != SS_FRICTION_LUGRE) {
+        *bad = "friction_model";
         return SS_ERR_RANGE;
     }
-    return ss_friction_config_check_f32(&cfg->friction);
+    /* friction fields carry a prefix so the caller can tell them apart */
+    static const char *const prefixed[] = {"friction.fs_n",
+                                           "friction.fc_n",
+                                           "friction.vs_m_per_s",
+                                           "friction.sigma0_n_per_m",
+                                           "friction.sigma1_ns_per_m",
+                                           "friction.sigma2_ns_per_m"};
+    const char *f = "";
+    st = ss_friction_config_check_f32(&cfg->friction, &f);
+    for (size_t i = 0; st != SS_OK && i < sizeof prefixed / sizeof prefixed[0]; ++i) {
+        if (strcmp(prefixed[i] + 9, f) == 0) {
+            *bad = prefixed[i];
+        }
+    }
+    return st;
 }
 
 /* Exact flow of M e'' + c e' + k e = 0 over dt, as a 2x2 matrix on (e, e'). Under-, critically
@@ -108,7 +130,7 @@ ss_status_t ss_actuator_init_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
     if (cfg == NULL || st == NULL) {
         return SS_ERR_NULL;
     }
-    ss_status_t status = check_config(cfg);
+    ss_status_t status = ss_actuator_config_check_f32(cfg, NULL);
     if (status == SS_OK) {
         status = ss_check_range_f32(drive0_v, -1e5f, 1e5f);
     }

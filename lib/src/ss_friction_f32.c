@@ -24,27 +24,30 @@ ss_friction_config_f32_t ss_friction_config_table1_f32(void)
     return ss_friction_config_from_mu_f32(0.36f, 0.30f, 10.0f, 0.4e-3f, 1.0e7f, 80.0f, 8.0f);
 }
 
-ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg)
+ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg, const char **bad_field)
 {
+    const char *dummy = "";
+    const char **bad = (bad_field != NULL) ? bad_field : &dummy;
+    *bad = "";
     if (cfg == NULL) {
+        *bad = "config";
         return SS_ERR_NULL;
     }
-    const float lims[6][3] = {
-        {cfg->fs_n, 1e-6f, 1e4f},
-        {cfg->fc_n, 1e-6f, 1e4f},
-        {cfg->vs_m_per_s, 1e-9f, 10.0f},
-        {cfg->sigma0_n_per_m, 1.0f, 1e12f},
-        {cfg->sigma1_ns_per_m, 0.0f, 1e6f},
-        {cfg->sigma2_ns_per_m, 0.0f, 1e6f},
+    const ss_range_f32_t ranges[] = {
+        {"fs_n", cfg->fs_n, 1e-6f, 1e4f},
+        {"fc_n", cfg->fc_n, 1e-6f, 1e4f},
+        {"vs_m_per_s", cfg->vs_m_per_s, 1e-9f, 10.0f},
+        {"sigma0_n_per_m", cfg->sigma0_n_per_m, 1.0f, 1e12f},
+        {"sigma1_ns_per_m", cfg->sigma1_ns_per_m, 0.0f, 1e6f},
+        {"sigma2_ns_per_m", cfg->sigma2_ns_per_m, 0.0f, 1e6f},
     };
-    for (int i = 0; i < 6; ++i) {
-        ss_status_t st = ss_check_range_f32(lims[i][0], lims[i][1], lims[i][2]);
-        if (st != SS_OK) {
-            return st;
-        }
+    ss_status_t st = ss_check_ranges_f32(ranges, sizeof ranges / sizeof ranges[0], bad);
+    if (st == SS_OK && cfg->fc_n > cfg->fs_n) {
+        /* Fc above Fs would make the Stribeck curve rise: not the physics either model describes. */
+        *bad = "fc_n";
+        st = SS_ERR_RANGE;
     }
-    /* Fc above Fs would make the Stribeck curve rise: not the physics either model describes. */
-    return (cfg->fc_n <= cfg->fs_n) ? SS_OK : SS_ERR_RANGE;
+    return st;
 }
 
 float ss_stribeck_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s)

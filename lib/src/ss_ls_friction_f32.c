@@ -28,7 +28,7 @@ ss_status_t ss_ls_init_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_
     if (st == NULL) {
         return SS_ERR_NULL;
     }
-    ss_status_t status = ss_friction_config_check_f32(cfg);
+    ss_status_t status = ss_friction_config_check_f32(cfg, NULL);
     if (status != SS_OK) {
         return status;
     }
@@ -105,8 +105,7 @@ static void rebase(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st)
     }
 }
 
-float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m,
-                     float dt_s)
+float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m, float dt_s)
 {
     if (!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f)) {
         return st->force_n;
@@ -143,19 +142,22 @@ float ss_ls_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_ls_state_
                          float *dfdv_ns_per_m)
 {
     /* gross-slip velocity: the share of v the presliding element does not take up elastically */
-    const float share = (1.0f - st->kt_n_per_m / cfg->sigma0_n_per_m) * breakaway_gate(fabsf(st->fm_n) / cfg->fs_n);
+    const float share =
+        (1.0f - st->kt_n_per_m / cfg->sigma0_n_per_m) * breakaway_gate(fabsf(st->fm_n) / cfg->fs_n);
     const float vp = v_m_per_s * share;
     const float g = ss_stribeck_f32(cfg, vp);
     const float zdot = vp * (1.0f - st->level_n / g); /* LuGre's dz/dt once sliding, sigma0 z = s */
     if (dfdv_ns_per_m != NULL) {
-        const float dzdvp = (1.0f - st->level_n / g) + vp * st->level_n * ss_stribeck_slope_f32(cfg, vp) / (g * g);
+        const float dzdvp =
+            (1.0f - st->level_n / g) + vp * st->level_n * ss_stribeck_slope_f32(cfg, vp) / (g * g);
         *dfdv_ns_per_m = cfg->sigma1_ns_per_m * share * dzdvp + cfg->sigma2_ns_per_m;
     }
-    return (st->level_n / cfg->fs_n) * st->fm_n + cfg->sigma1_ns_per_m * zdot + cfg->sigma2_ns_per_m * v_m_per_s;
+    return (st->level_n / cfg->fs_n) * st->fm_n + cfg->sigma1_ns_per_m * zdot +
+           cfg->sigma2_ns_per_m * v_m_per_s;
 }
 
-ss_status_t ss_ls_run_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st,
-                          const float *dx_m, uint32_t n, float dt_s, float *force_n)
+ss_status_t ss_ls_run_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, const float *dx_m,
+                          uint32_t n, float dt_s, float *force_n)
 {
     if (cfg == NULL || st == NULL || (n > 0u && (dx_m == NULL || force_n == NULL))) {
         return SS_ERR_NULL;

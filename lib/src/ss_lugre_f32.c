@@ -10,7 +10,7 @@ ss_status_t ss_lugre_init_f32(const ss_friction_config_f32_t *cfg, ss_lugre_stat
     if (st == NULL) {
         return SS_ERR_NULL;
     }
-    ss_status_t status = ss_friction_config_check_f32(cfg);
+    ss_status_t status = ss_friction_config_check_f32(cfg, NULL);
     if (status != SS_OK) {
         return status;
     }
@@ -20,8 +20,7 @@ ss_status_t ss_lugre_init_f32(const ss_friction_config_f32_t *cfg, ss_lugre_stat
     return SS_OK;
 }
 
-float ss_lugre_step_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, float dx_m,
-                        float dt_s)
+float ss_lugre_step_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, float dx_m, float dt_s)
 {
     if (!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f)) {
         return st->force_n;
@@ -54,8 +53,8 @@ float ss_lugre_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_lugre_
     return cfg->sigma0_n_per_m * st->z_m + cfg->sigma1_ns_per_m * zdot + cfg->sigma2_ns_per_m * v;
 }
 
-ss_status_t ss_lugre_run_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st,
-                          const float *dx_m, uint32_t n, float dt_s, float *force_n)
+ss_status_t ss_lugre_run_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, const float *dx_m,
+                             uint32_t n, float dt_s, float *force_n)
 {
     if (cfg == NULL || st == NULL || (n > 0u && (dx_m == NULL || force_n == NULL))) {
         return SS_ERR_NULL;

@@ -6,8 +6,7 @@
 #include "ss_check.h"
 
 ss_waveform_config_f32_t ss_waveform_sawtooth_f32(float frequency_hz, float amplitude_v, float offset_v,
-                                                  float rise_fraction, int32_t direction,
-                                                  uint32_t cycles)
+                                                  float rise_fraction, int32_t direction, uint32_t cycles)
 {
     ss_waveform_config_f32_t cfg;
     cfg.kind = SS_WAVE_SAWTOOTH;
@@ -60,8 +59,7 @@ static ss_status_t check_sampled(const ss_waveform_config_f32_t *cfg)
     return st;
 }
 
-ss_status_t ss_waveform_init_f32(const ss_waveform_config_f32_t *cfg, float dt_s,
-                                 ss_waveform_state_f32_t *st)
+ss_status_t ss_waveform_init_f32(const ss_waveform_config_f32_t *cfg, float dt_s, ss_waveform_state_f32_t *st)
 {
     if (cfg == NULL || st == NULL) {
         return SS_ERR_NULL;

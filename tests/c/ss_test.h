@@ -11,12 +11,12 @@
 #include <math.h>
 
 /* assert |a - b| <= tol, printing the numbers on failure */
-#define assert_close(a, b, tol)                                                                     \
-    do {                                                                                           \
-        double a_ = (double)(a), b_ = (double)(b), t_ = (double)(tol);                             \
-        if (!(fabs(a_ - b_) <= t_)) {                                                              \
-            fail_msg("%s = %.9g, %s = %.9g, |diff| %.3g > %.3g", #a, a_, #b, b_, fabs(a_ - b_), t_); \
-        }                                                                                          \
+#define assert_close(a, b, tol)                                                                              \
+    do {                                                                                                     \
+        double a_ = (double)(a), b_ = (double)(b), t_ = (double)(tol);                                       \
+        if (!(fabs(a_ - b_) <= t_)) {                                                                        \
+            fail_msg("%s = %.9g, %s = %.9g, |diff| %.3g > %.3g", #a, a_, #b, b_, fabs(a_ - b_), t_);         \
+        }                                                                                                    \
     } while (0)
 
 #endif

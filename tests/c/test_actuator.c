@@ -36,8 +36,12 @@ static void test_config_validation(void **unused)
     assert_int_equal(ss_actuator_init_f32(&c, &st, 0.0f), SS_OK);
     assert_int_equal(ss_actuator_init_f32(NULL, &st, 0.0f), SS_ERR_NULL);
     assert_int_equal(ss_actuator_init_f32(&c, &st, NAN), SS_ERR_NONFINITE);
-    float *fields[] = {&c.piezo_stiffness_n_per_m, &c.piezo_damping_kg_per_s, &c.rod_mass_kg,
-                       &c.slider_mass_kg, &c.dt_s, &c.friction.fs_n};
+    float *fields[] = {&c.piezo_stiffness_n_per_m,
+                       &c.piezo_damping_kg_per_s,
+                       &c.rod_mass_kg,
+                       &c.slider_mass_kg,
+                       &c.dt_s,
+                       &c.friction.fs_n};
     for (size_t i = 0; i < 6; ++i) {
         const float keep = *fields[i];
         *fields[i] = NAN;
@@ -48,6 +52,14 @@ static void test_config_validation(void **unused)
     }
     c.piezo_gain_m_per_v = 0.0f;
     assert_int_equal(ss_actuator_init_f32(&c, &st, 0.0f), SS_ERR_RANGE);
+    const char *bad = NULL;
+    assert_int_equal(ss_actuator_config_check_f32(&c, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "piezo_gain_m_per_v");
+    c = ss_actuator_config_table1_f32();
+    c.friction.sigma1_ns_per_m = -1.0f;
+    assert_int_equal(ss_actuator_config_check_f32(&c, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.sigma1_ns_per_m");
+    assert_int_equal(ss_actuator_config_check_f32(NULL, &bad), SS_ERR_NULL);
     c = ss_actuator_config_table1_f32();
     c.friction_model = 9;
     assert_int_equal(ss_actuator_init_f32(&c, &st, 0.0f), SS_ERR_RANGE);
@@ -112,7 +124,7 @@ static void test_fall_time_trend(void **unused)
         assert_true(s[i] > s[i + 1]);
     }
     assert_true(s[0] > 0.8 * 4.4e-6); /* a 20 us fall keeps most of the 4.4 um stroke */
-    assert_true(s[3] < 0.0);           /* a 200 us fall steps backwards */
+    assert_true(s[3] < 0.0);          /* a 200 us fall steps backwards */
 }
 
 /* Halving the 1 us step changes the steady per-cycle step by less than 0.1 % (docs/model.md). */

@@ -12,8 +12,8 @@ static ss_friction_config_f32_t table1(void)
 }
 
 /* Move an LS element from its current position to x_to in steps of at most |h|, at speed v. */
-static float ls_move(const ss_friction_config_f32_t *c, ss_ls_state_f32_t *st, double *x, double x_to, double h,
-                     double v)
+static float ls_move(const ss_friction_config_f32_t *c, ss_ls_state_f32_t *st, double *x, double x_to,
+                     double h, double v)
 {
     float f = st->force_n;
     while (fabs(x_to - *x) > 1e-15) {
@@ -41,21 +41,24 @@ static void test_config_validation(void **unused)
 {
     (void)unused;
     ss_friction_config_f32_t c = table1();
-    assert_int_equal(ss_friction_config_check_f32(&c), SS_OK);
-    assert_int_equal(ss_friction_config_check_f32(NULL), SS_ERR_NULL);
-    float *fields[] = {&c.fs_n, &c.fc_n, &c.vs_m_per_s, &c.sigma0_n_per_m, &c.sigma1_ns_per_m, &c.sigma2_ns_per_m};
+    assert_int_equal(ss_friction_config_check_f32(&c, NULL), SS_OK);
+    assert_int_equal(ss_friction_config_check_f32(NULL, NULL), SS_ERR_NULL);
+    float *fields[] = {&c.fs_n,           &c.fc_n, &c.vs_m_per_s, &c.sigma0_n_per_m, &c.sigma1_ns_per_m,
+                       &c.sigma2_ns_per_m};
     for (size_t i = 0; i < 6; ++i) {
         const float keep = *fields[i];
         *fields[i] = NAN;
-        assert_int_equal(ss_friction_config_check_f32(&c), SS_ERR_NONFINITE);
+        assert_int_equal(ss_friction_config_check_f32(&c, NULL), SS_ERR_NONFINITE);
         *fields[i] = INFINITY;
-        assert_int_equal(ss_friction_config_check_f32(&c), SS_ERR_NONFINITE);
+        assert_int_equal(ss_friction_config_check_f32(&c, NULL), SS_ERR_NONFINITE);
         *fields[i] = -1.0f;
-        assert_int_equal(ss_friction_config_check_f32(&c), SS_ERR_RANGE);
+        assert_int_equal(ss_friction_config_check_f32(&c, NULL), SS_ERR_RANGE);
         *fields[i] = keep;
     }
-    c.fc_n = c.fs_n * 1.01f; /* a rising Stribeck curve is rejected */
-    assert_int_equal(ss_friction_config_check_f32(&c), SS_ERR_RANGE);
+    c.fc_n = c.fs_n * 1.01f; /* a rising Stribeck curve is rejected, and named */
+    const char *bad = NULL;
+    assert_int_equal(ss_friction_config_check_f32(&c, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "fc_n");
     ss_ls_state_f32_t ls;
     ss_lugre_state_f32_t lg;
     assert_int_equal(ss_ls_init_f32(&c, &ls), SS_ERR_RANGE);
@@ -182,7 +185,8 @@ static double drift_per_period(int lugre)
         v += (fext - f) / m * dt;
         const double dx = v * dt;
         x += dx;
-        f = lugre ? ss_lugre_step_f32(&c, &lg, (float)dx, (float)dt) : ss_ls_step_f32(&c, &ls, (float)dx, (float)dt);
+        f = lugre ? ss_lugre_step_f32(&c, &lg, (float)dx, (float)dt)
+                  : ss_ls_step_f32(&c, &ls, (float)dx, (float)dt);
         if ((k + 1) % per == 0) {
             drift = x - x_prev;
             x_prev = x;

@@ -50,7 +50,8 @@ static void test_long_run_keeps_phase(void **unused)
         ss_waveform_advance_f32(&st);
     }
     /* the player's clock (periods + time into the period) against n * dt in double */
-    const double elapsed = (double)st.index * (double)st.period_s + (double)st.tau0_s + (double)st.j * (double)st.dt_s;
+    const double elapsed =
+        (double)st.index * (double)st.period_s + (double)st.tau0_s + (double)st.j * (double)st.dt_s;
     const double expect = (double)n * (double)st.dt_s;
     print_message("after %u steps: clock error %.3g s\n", n, elapsed - expect);
     assert_true(fabs(elapsed - expect) < 0.5e-6); /* edges within half a step after 1e8 steps */

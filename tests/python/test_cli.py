@@ -29,7 +29,20 @@ def test_simulate_json_reports_mean_step(capsys, tmp_path):
 
 
 def test_simulate_options_reach_the_model(capsys):
-    main(["simulate", "--cycles", "4", "--json", "--direction", "-1", "--model", "lugre", "--fall-time-s", "20e-6"])
+    main(
+        [
+            "simulate",
+            "--cycles",
+            "4",
+            "--json",
+            "--direction",
+            "-1",
+            "--model",
+            "lugre",
+            "--fall-time-s",
+            "20e-6",
+        ]
+    )
     s = json.loads(capsys.readouterr().out)
     assert s["model"] == "lugre"
     assert s["waveform"]["rise_fraction"] == pytest.approx(0.99)
@@ -51,8 +64,11 @@ def test_bad_options_say_what_is_wrong(capsys, args, msg):
 
 
 def test_nan_option_is_refused():
-    r = subprocess.run([sys.executable, "-m", "stickslip", "simulate", "--amplitude-v", "nan"],
-                       capture_output=True, text=True)
+    r = subprocess.run(
+        [sys.executable, "-m", "stickslip", "simulate", "--amplitude-v", "nan"],
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 2
     assert "--amplitude-v: expected a finite number" in r.stderr
 
@@ -74,7 +90,9 @@ def test_simulate_dataset(capsys, tmp_path):
 @pytest.mark.skipif(not HOST_SIM.exists(), reason="host build missing (cmake --preset host)")
 def test_host_simulator_matches_binding(tmp_path):
     out = tmp_path / "h.csv"
-    r = subprocess.run([str(HOST_SIM), "--cycles", "3", "--out", str(out)], capture_output=True, text=True)
+    r = subprocess.run(
+        [str(HOST_SIM), "--cycles", "3", "--out", str(out)], capture_output=True, text=True
+    )
     assert r.returncode == 0, r.stderr
     data = np.loadtxt(out, delimiter=",", skiprows=1)
     py = simulate(Sawtooth(cycles=3))
@@ -82,5 +100,9 @@ def test_host_simulator_matches_binding(tmp_path):
     # hold a float32 exactly
     np.testing.assert_array_equal(data[:, 4].astype(np.float32), py.x_slider_m.astype(np.float32))
     bad = subprocess.run([str(HOST_SIM), "--frequency-hz", "fast"], capture_output=True, text=True)
-    assert bad.returncode == 2 and "--frequency-hz: expected a finite number, got 'fast'" in bad.stderr
-    assert "usage" in subprocess.run([str(HOST_SIM), "--help"], capture_output=True, text=True).stdout
+    assert (
+        bad.returncode == 2 and "--frequency-hz: expected a finite number, got 'fast'" in bad.stderr
+    )
+    assert (
+        "usage" in subprocess.run([str(HOST_SIM), "--help"], capture_output=True, text=True).stdout
+    )

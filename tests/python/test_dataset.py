@@ -12,8 +12,15 @@ from stickslip.model import ActuatorParams, Sawtooth, simulate
 def make(tmp_path, cycles=3):
     w = Sawtooth(cycles=cycles)
     r = simulate(w, decimation=10)
-    run = D.Run("f500_fwd", tmp_path / "f500_fwd.csv", r.t_s, r.drive_v, r.x_slider_m, w,
-                {"x_rod_m": r.x_rod_m})
+    run = D.Run(
+        "f500_fwd",
+        tmp_path / "f500_fwd.csv",
+        r.t_s,
+        r.drive_v,
+        r.x_slider_m,
+        w,
+        {"x_rod_m": r.x_rod_m},
+    )
     return D.write(tmp_path / "ds", ActuatorParams.table1(), [run], "test", D.Sensor(1e-9, 2e-9))
 
 

@@ -16,7 +16,10 @@ def test_fig03_steady_sliding_follows_stribeck_curve():
     assert c["max_rel_error_vs_g_plus_sigma2_v"] < 1e-4
     assert c["static_force_n"] == pytest.approx(P.fs_n, rel=1e-4)
     # the dip: friction falls from Fs towards Fc, then viscous friction lifts it again
-    assert c["minimum_force_n"] < P.fc_n + 0.05 * (P.fs_n - P.fc_n) + P.sigma2_ns_per_m * c["velocity_at_minimum_m_per_s"]
+    assert (
+        c["minimum_force_n"]
+        < P.fc_n + 0.05 * (P.fs_n - P.fc_n) + P.sigma2_ns_per_m * c["velocity_at_minimum_m_per_s"]
+    )
     assert c["force_at_highest_velocity_n"] > c["minimum_force_n"]
     # from rest under slow acceleration the force rises towards Fs before it breaks away
     assert 0.95 * P.fs_n < c["ramp_peak_n"] <= P.fs_n * 1.001

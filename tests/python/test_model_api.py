@@ -27,8 +27,9 @@ def test_binding_runs_the_same_code_as_the_host_simulator_default():
 )
 def test_bad_parameters_are_rejected_by_name(field, value, message):
     p = ActuatorParams(**{field: value})
-    with pytest.raises(N.NativeError, match=message):
+    with pytest.raises(N.NativeError, match=message) as e:
         simulate(Sawtooth(cycles=1), p)
+    assert (field if field != "mu_d" else "Fc") in str(e.value)
 
 
 @pytest.mark.parametrize(

@@ -1,0 +1,64 @@
+/* Host speed of the actuator step: median ns per step over repeated runs of the paper's drive.
+ * Usage: bench_step [repeats] [cycles]   (see bench/run_benchmarks.py) */
+#define _POSIX_C_SOURCE 199309L
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include "ss_actuator.h"
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmp(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+int main(int argc, char **argv)
+{
+    const int repeats = argc > 1 ? atoi(argv[1]) : 11;
+    const unsigned cycles = argc > 2 ? (unsigned)atoi(argv[2]) : 100u;
+    if (repeats < 1 || repeats > 1000 || cycles < 1u || cycles > 100000u) {
+        fprintf(stderr, "bench_step: repeats in [1, 1000], cycles in [1, 100000]\n");
+        return 2;
+    }
+    double *t = malloc(sizeof(double) * (size_t)repeats);
+    if (t == NULL) {
+        return 1;
+    }
+    const char *names[2] = {"ls", "lugre"};
+    for (int m = 0; m < 2; ++m) {
+        ss_actuator_config_f32_t cfg = ss_actuator_config_table1_f32();
+        cfg.friction_model = m;
+        ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, cycles);
+        uint32_t steps = 0;
+        float sink = 0.0f;
+        for (int r = 0; r < repeats; ++r) {
+            ss_waveform_state_f32_t ws;
+            ss_actuator_state_f32_t st;
+            ss_waveform_init_f32(&w, cfg.dt_s, &ws);
+            ss_actuator_init_f32(&cfg, &st, 0.0f);
+            steps = (uint32_t)((double)cycles / 500.0 / (double)cfg.dt_s + 0.5);
+            uint32_t rows = 0;
+            const double t0 = now_s();
+            ss_actuator_run_f32(&cfg, &st, &w, &ws, steps, 1u, NULL, &rows);
+            t[r] = now_s() - t0;
+            sink += ss_position_value_f32(st.x_slider);
+        }
+        qsort(t, (size_t)repeats, sizeof(double), cmp);
+        const double med = t[repeats / 2];
+        printf(
+            "{\"model\": \"%s\", \"steps\": %u, \"repeats\": %d, \"median_s\": %.6g, \"ns_per_step\": %.4g, "
+            "\"sim_s_per_wall_s\": %.4g, \"dt_s\": %g, \"check\": %.6g}\n",
+            names[m], steps, repeats, med, 1e9 * med / (double)steps, (double)steps * (double)cfg.dt_s / med,
+            (double)cfg.dt_s, (double)sink / repeats);
+    }
+    free(t);
+    return 0;
+}

@@ -1,0 +1,82 @@
+"""Benchmarks of the float core (figures in BENCHMARKS.md):
+
+1. host ns per actuator step and simulated seconds per wall second (bench_step, C);
+2. the same simulation with scipy's Radau at equal accuracy, as a ratio measured in this run.
+
+"Equal accuracy": a tight Radau run (rtol 1e-10) is the truth for 3 cycles of the paper's drive;
+the C core's worst per-cycle step error against it sets the bar; Radau is then timed at the
+loosest rtol (scanning 1e-9, 1e-8, ... upwards) whose error is still at or below that bar.
+
+    cmake --preset host && cmake --build --preset host
+    .venv/bin/python bench/run_benchmarks.py
+"""
+
+from __future__ import annotations
+
+import json
+import statistics
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+
+from stickslip.model import Sawtooth, simulate
+from stickslip.reference import simulate_reference
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def c_speed() -> dict:
+    exe = ROOT / "build" / "host" / "bench" / "bench_step"
+    out = subprocess.run([str(exe), "11", "100"], check=True, capture_output=True, text=True).stdout
+    return {d["model"]: d for d in map(json.loads, out.splitlines())}
+
+
+def timed(fn, repeats: int):
+    times, result = [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        result = fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), result
+
+
+def main() -> None:
+    speed = c_speed()
+    for m, d in speed.items():
+        print(
+            f"C core, {m}: {d['ns_per_step']:.1f} ns/step (median of {d['repeats']}), "
+            f"{d['sim_s_per_wall_s']:.2f} simulated s per wall s at dt = {d['dt_s']:g} s"
+        )
+    w = Sawtooth(cycles=3)
+    for model in ("ls", "lugre"):
+        truth = simulate_reference(w, model=model, rtol=1e-10).per_cycle_steps()
+        t_c, r = timed(lambda model=model: simulate(w, model=model), 11)
+        err_c = float(np.max(np.abs(r.per_cycle_steps() / truth - 1)))
+        print(
+            f"\n{model}: C core (through Python, with recording) {t_c * 1e3:.2f} ms for 3 cycles, "
+            f"worst per-cycle step error {err_c * 100:.3f} %"
+        )
+        # from tight to loose; loose tolerances chatter on the stick events and can take
+        # minutes, so a run over 120 s ends the scan
+        best = None
+        for rtol in (1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4):
+            t_s, ref = timed(lambda m=model, rt=rtol: simulate_reference(w, model=m, rtol=rt), 1)
+            err = float(np.max(np.abs(ref.per_cycle_steps() / truth - 1)))
+            print(f"  Radau rtol {rtol:g}: {t_s:.2f} s, error {err * 100:.4f} %")
+            if err > err_c or t_s > 120:
+                break
+            best = rtol
+        if best is None:
+            print("  Radau did not reach the C core's accuracy")
+            continue
+        t_s, _ = timed(lambda m=model, rt=best: simulate_reference(w, model=m, rtol=rt), 3)
+        print(
+            f"  -> equal accuracy at rtol {best:g}: Radau {t_s:.2f} s (median of 3) vs C "
+            f"{t_c * 1e3:.2f} ms: the C core is {t_s / t_c:.0f} x faster"
+        )
+
+
+if __name__ == "__main__":
+    main()
