@@ -58,14 +58,23 @@ def main() -> None:
             f"\n{model}: C core (through Python, with recording) {t_c * 1e3:.2f} ms for 3 cycles, "
             f"worst per-cycle step error {err_c * 100:.3f} %"
         )
-        # from tight to loose; loose tolerances chatter on the stick events and can take
-        # minutes, so a run over 120 s ends the scan
+        # from tight to loose; loose tolerances chatter on the stick events and can take many
+        # minutes, so a run over 60 s ends the scan
         best = None
-        for rtol in (1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4):
-            t_s, ref = timed(lambda m=model, rt=rtol: simulate_reference(w, model=m, rtol=rt), 1)
+        for rtol in (1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3):
+            try:
+                t_s, ref = timed(
+                    lambda m=model, rt=rtol: simulate_reference(
+                        w, model=m, rtol=rt, time_limit_s=60
+                    ),
+                    1,
+                )
+            except TimeoutError:
+                print(f"  Radau rtol {rtol:g}: over 60 s (chatters on the stick events), scan ends")
+                break
             err = float(np.max(np.abs(ref.per_cycle_steps() / truth - 1)))
             print(f"  Radau rtol {rtol:g}: {t_s:.2f} s, error {err * 100:.4f} %")
-            if err > err_c or t_s > 120:
+            if err > err_c:
                 break
             best = rtol
         if best is None:

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# All the tests: set up (with the analysers), static checks, the C unit tests on the host build
-# and under AddressSanitizer + UndefinedBehaviorSanitizer, then the Python tests.
+# All the tests: set up (with the analysers), static checks, the C unit tests on the host build,
+# under AddressSanitizer + UndefinedBehaviorSanitizer and with coverage, then the Python tests
+# under coverage. Prints both coverage summaries.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh --dev
@@ -9,4 +10,12 @@ ctest --preset host
 cmake --preset asan >/dev/null
 cmake --build --preset asan
 ctest --preset asan
-.venv/bin/python -m pytest -q tests/python
+cmake --preset coverage >/dev/null
+cmake --build --preset coverage
+find build/coverage -name '*.gcda' -delete
+ctest --preset coverage
+echo "C coverage of lib/ (the cmocka tests):"
+.venv/bin/gcovr -r . --filter 'lib/' build/coverage --txt-metric line --print-summary | tail -12
+.venv/bin/python -m coverage run -m pytest -q tests/python
+echo "Python coverage of the stickslip package (pytest):"
+.venv/bin/python -m coverage report --skip-empty

@@ -270,6 +270,12 @@ def _plt():
     return plt
 
 
+def _save(f, path: Path) -> None:
+    f.tight_layout()
+    f.savefig(path, dpi=110)
+    _plt().close(f)
+
+
 def plot_stribeck(fig: StribeckFigure, path: Path) -> None:
     plt = _plt()
     f, ax = plt.subplots(1, 2, figsize=(10, 4))
@@ -283,9 +289,7 @@ def plot_stribeck(fig: StribeckFigure, path: Path) -> None:
     ax[1].set(
         xlabel="velocity (mm/s)", ylabel="friction (N)", title="constant acceleration from rest"
     )
-    f.tight_layout()
-    f.savefig(path, dpi=110)
-    plt.close(f)
+    _save(f, path)
 
 
 def plot_hysteresis(fig: HysteresisFigure, path: Path) -> None:
@@ -297,9 +301,7 @@ def plot_hysteresis(fig: HysteresisFigure, path: Path) -> None:
     )
     ax[1].plot(fig.v_m_per_s * 1e3, fig.f_n)
     ax[1].set(xlabel="velocity (mm/s)", ylabel="friction (N)", title="friction against velocity")
-    f.tight_layout()
-    f.savefig(path, dpi=110)
-    plt.close(f)
+    _save(f, path)
 
 
 def plot_memory(fig: MemoryFigure, path: Path) -> None:
@@ -319,9 +321,7 @@ def plot_memory(fig: MemoryFigure, path: Path) -> None:
             a.plot(fig.x_m[s] * 1e6, fo[s], lw=0.8, label=f"period {k + 1}")
         a.set(xlabel="displacement (um)", ylabel="friction (N)", title=name)
         a.legend(fontsize=7)
-    f.tight_layout()
-    f.savefig(path, dpi=110)
-    plt.close(f)
+    _save(f, path)
 
 
 def plot_rate(fig: RateFigure, path: Path) -> None:
@@ -332,9 +332,7 @@ def plot_rate(fig: RateFigure, path: Path) -> None:
             a.plot(fig.x_m[(model, fr)] * 1e6, fig.f_n[(model, fr)], label=f"{fr:g} Hz")
         a.set(xlabel="displacement (um)", ylabel="friction (N)", title=title)
         a.legend()
-    f.tight_layout()
-    f.savefig(path, dpi=110)
-    plt.close(f)
+    _save(f, path)
 
 
 def plot_actuator(fig: ActuatorFigure, path: Path) -> None:
@@ -350,9 +348,7 @@ def plot_actuator(fig: ActuatorFigure, path: Path) -> None:
         f"{fig.claims['mean_step_m'] * 1e6:.2f} um per cycle",
     )
     ax.legend()
-    f.tight_layout()
-    f.savefig(path, dpi=110)
-    plt.close(f)
+    _save(f, path)
 
 
 def plot_fall_time(fig: FallTimeFigure, path: Path) -> None:
@@ -367,9 +363,7 @@ def plot_fall_time(fig: FallTimeFigure, path: Path) -> None:
         title="step against fall time, 500 Hz, 4.4 um",
     )
     ax.legend()
-    f.tight_layout()
-    f.savefig(path, dpi=110)
-    plt.close(f)
+    _save(f, path)
 
 
 FIGURES: dict[str, tuple[Callable[[], Any], Callable[[Any, Path], None]]] = {

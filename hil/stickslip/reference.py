@@ -6,6 +6,7 @@ are integration boundaries. Slow; for verification and benchmarks only."""
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -94,7 +95,11 @@ def simulate_reference(
     model: str = "ls",
     rtol: float = 1e-9,
     hold_s: float = 0.0,
+    time_limit_s: float | None = None,
 ) -> ReferenceResult:
+    """Integrate to the end of the waveform (plus hold_s). Raises TimeoutError past time_limit_s
+    of wall time (loose tolerances can chatter on the stick events)."""
+    started = time.monotonic()
     p = params or ActuatorParams.table1()
     fs, fc, vs = p.fs_n, p.fc_n, p.stribeck_velocity_m_per_s
     k0, s1, s2 = p.sigma0_n_per_m, p.sigma1_ns_per_m, p.sigma2_ns_per_m
@@ -158,6 +163,8 @@ def simulate_reference(
         seg = (t0, t1, ua - slope * (ta - t0), ub + slope * (t1 - tb))
         t = t0
         while t < t1:
+            if time_limit_s is not None and time.monotonic() - started > time_limit_s:
+                raise TimeoutError(f"reference solver: over {time_limit_s} s at t = {t:.6g} s")
 
             def ev_rev(tt, yy, *_):
                 return yy[1] - yy[3]
