@@ -1,6 +1,7 @@
 /* The two-mass actuator: validation, rest, direction, fall-time trend, convergence, long travel. */
 #include "ss_test.h"
 
+#include "ss_abi.h"
 #include "ss_actuator.h"
 
 /* Mean step per cycle over cycles [skip, cycles) of a sawtooth run, in metres. */
@@ -158,6 +159,87 @@ static void test_long_travel_keeps_resolution(void **unused)
     assert_close(late, early, 1e-5 * early);
 }
 
+/* The run loop records exactly what stepping by hand produces, at the requested decimation. */
+static void test_run_matches_manual_steps(void **unused)
+{
+    (void)unused;
+    const ss_actuator_config_f32_t c = ss_actuator_config_table1_f32();
+    ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, 2);
+    ss_waveform_state_f32_t wa, wb;
+    ss_actuator_state_f32_t a, b;
+    ss_waveform_init_f32(&w, c.dt_s, &wa);
+    ss_waveform_init_f32(&w, c.dt_s, &wb);
+    ss_actuator_init_f32(&c, &a, 0.0f);
+    ss_actuator_init_f32(&c, &b, 0.0f);
+    enum { N = 4000, DEC = 7, ROWS = N / DEC };
+    static uint32_t step[ROWS];
+    static float col[9][ROWS];
+    ss_actuator_trace_f32_t tr = {step,   col[0], col[1], col[2], col[3], col[4],
+                                  col[5], col[6], col[7], col[8], ROWS};
+    uint32_t rows = 0;
+    assert_int_equal(ss_actuator_run_f32(&c, &a, &w, &wa, N, DEC, &tr, &rows), SS_OK);
+    assert_int_equal(rows, ROWS);
+    for (uint32_t k = 1; k <= N; ++k) {
+        ss_waveform_advance_f32(&wb);
+        ss_actuator_step_f32(&c, &b, ss_waveform_value_f32(&w, &wb));
+        if (k % DEC == 0) {
+            const uint32_t r = k / DEC - 1;
+            assert_int_equal(step[r], k);
+            assert_true(col[3][r] == ss_position_value_f32(b.x_slider));
+            assert_true(col[6][r] == b.force_n);
+            assert_true(col[7][r] == b.fr.ls.level_n);
+        }
+    }
+    assert_memory_equal(&a, &b, sizeof a);
+    /* argument errors */
+    tr.capacity = ROWS - 1;
+    assert_int_equal(ss_actuator_run_f32(&c, &a, &w, &wa, N, DEC, &tr, &rows), SS_ERR_RANGE);
+    assert_int_equal(ss_actuator_run_f32(&c, &a, &w, &wa, N, 0, NULL, &rows), SS_ERR_RANGE);
+    assert_int_equal(ss_actuator_run_f32(&c, &a, &w, &wa, N, 1, NULL, NULL), SS_ERR_NULL);
+    assert_int_equal(ss_actuator_step_f32(NULL, &a, 0.0f), SS_ERR_NULL);
+}
+
+/* The rod's exact flow covers over- and critically damped piezos: a step in the drive settles on
+ * the static equilibrium without overshoot. */
+static void test_rod_flow_all_damping_regimes(void **unused)
+{
+    (void)unused;
+    ss_actuator_config_f32_t c = ss_actuator_config_table1_f32();
+    const float crit = 2.0f * sqrtf(c.piezo_stiffness_n_per_m * c.rod_mass_kg); /* 956 kg/s */
+    const float damping[3] = {6.2f, crit, 4.0f * crit};
+    for (int i = 0; i < 3; ++i) {
+        c.piezo_damping_kg_per_s = damping[i];
+        ss_actuator_state_f32_t st;
+        assert_int_equal(ss_actuator_init_f32(&c, &st, 0.0f), SS_OK);
+        float peak = 0.0f;
+        for (int k = 0; k < 20000; ++k) {
+            ss_actuator_step_f32(&c, &st, 1.0f); /* 44 nm step in x_p */
+            peak = fmaxf(peak, st.x_rod_m);
+        }
+        const float target = c.piezo_gain_m_per_v;
+        print_message("c = %g kg/s: peak %.4g, final %.4g, target %.4g m\n", (double)damping[i], (double)peak,
+                      (double)st.x_rod_m, (double)target);
+        assert_true(isfinite(st.x_rod_m));
+        /* friction holds a static offset of at most Fs / (k + sigma0) on the rod */
+        assert_close(st.x_rod_m, target, 3.6 / 2.08e8);
+        if (i > 0) {
+            assert_true(peak <= target * 1.001f + 3.6f / 2.08e8f); /* no ringing overshoot */
+        }
+    }
+}
+
+static void test_abi_sizes(void **unused)
+{
+    (void)unused;
+    assert_int_equal(ss_abi_sizeof(SS_ABI_ACTUATOR_STATE_F32), sizeof(ss_actuator_state_f32_t));
+    assert_int_equal(ss_abi_sizeof(SS_ABI_FRICTION_CONFIG_F32), sizeof(ss_friction_config_f32_t));
+    for (int32_t id = 0; id <= SS_ABI_ACTUATOR_TRACE_F32; ++id) {
+        assert_true(ss_abi_sizeof(id) > 0u);
+    }
+    assert_int_equal(ss_abi_sizeof(-1), 0);
+    assert_int_equal(ss_abi_sizeof(99), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -168,6 +250,9 @@ int main(void)
         cmocka_unit_test(test_fall_time_trend),
         cmocka_unit_test(test_step_convergence),
         cmocka_unit_test(test_long_travel_keeps_resolution),
+        cmocka_unit_test(test_run_matches_manual_steps),
+        cmocka_unit_test(test_rod_flow_all_damping_regimes),
+        cmocka_unit_test(test_abi_sizes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -222,6 +222,17 @@ static void test_nonfinite_input_changes_nothing(void **unused)
     const float dx[2] = {1e-9f, NAN};
     float out[2];
     assert_int_equal(ss_ls_run_f32(&c, &st, dx, 2, DT, out), SS_ERR_NONFINITE);
+    assert_int_equal(ss_ls_run_f32(&c, &st, NULL, 2, DT, out), SS_ERR_NULL);
+    ss_lugre_state_f32_t lg, lg_keep;
+    assert_int_equal(ss_lugre_init_f32(&c, &lg), SS_OK);
+    assert_int_equal(ss_lugre_init_f32(&c, NULL), SS_ERR_NULL);
+    assert_int_equal(ss_lugre_run_f32(&c, &lg, dx, 1, DT, out), SS_OK);
+    lg_keep = lg;
+    assert_int_equal(ss_lugre_run_f32(&c, &lg, dx + 1, 1, DT, out), SS_ERR_NONFINITE);
+    assert_int_equal(ss_lugre_run_f32(&c, &lg, dx, 1, NAN, out), SS_ERR_NONFINITE);
+    assert_int_equal(ss_lugre_run_f32(NULL, &lg, dx, 1, DT, out), SS_ERR_NULL);
+    ss_lugre_step_f32(&c, &lg, NAN, DT);
+    assert_memory_equal(&lg, &lg_keep, sizeof lg);
 }
 
 /* Stack overflow of nested loops forgets the innermost loop but stays bounded and consistent. */
