@@ -26,6 +26,11 @@ ss_friction_config_f32_t ss_friction_config_from_mu_f32(float mu_s, float mu_d, 
  * (when bad_field is not NULL) names the offending field, e.g. "fc_n"; on success it is "". */
 ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg, const char **bad_field);
 
+/* As ss_friction_config_check_f32, with names prefixed "friction." when prefixed != 0 (used by
+ * the actuator's check); bad_field must not be NULL. */
+ss_status_t ss_friction_config_check_named_f32(const ss_friction_config_f32_t *cfg, int prefixed,
+                                               const char **bad_field);
+
 /* Stribeck curve g(v) in N: Fs at rest, Fc in fast sliding. */
 float ss_stribeck_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s);
 

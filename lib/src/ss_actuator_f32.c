@@ -2,7 +2,6 @@
 
 #include <math.h>
 #include <stddef.h>
-#include <string.h>
 
 #include "ss_check.h"
 
@@ -64,19 +63,7 @@ ss_status_t ss_actuator_config_check_f32(const ss_actuator_config_f32_t *cfg, co
         return SS_ERR_RANGE;
     }
     /* friction fields carry a prefix so the caller can tell them apart */
-    static const char *const prefixed[] = {"friction.fs_n",
-                                           "friction.fc_n",
-                                           "friction.vs_m_per_s",
-                                           "friction.sigma0_n_per_m",
-                                           "friction.sigma1_ns_per_m",
-                                           "friction.sigma2_ns_per_m"};
-    const char *f = "";
-    st = ss_friction_config_check_f32(&cfg->friction, &f);
-    for (size_t i = 0; st != SS_OK && i < sizeof prefixed / sizeof prefixed[0]; ++i) {
-        if (strcmp(prefixed[i] + 9, f) == 0) {
-            *bad = prefixed[i];
-        }
-    }
+    st = ss_friction_config_check_named_f32(&cfg->friction, 1, bad);
     return st;
 }
 

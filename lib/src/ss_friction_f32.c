@@ -24,30 +24,40 @@ ss_friction_config_f32_t ss_friction_config_table1_f32(void)
     return ss_friction_config_from_mu_f32(0.36f, 0.30f, 10.0f, 0.4e-3f, 1.0e7f, 80.0f, 8.0f);
 }
 
-ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg, const char **bad_field)
+/* Field names, bare and as seen from the actuator config (no string functions in lib/). */
+static const char *const FIELD_NAMES[2][SS_FRICTION_N_FIELDS] = {
+    {"fs_n", "fc_n", "vs_m_per_s", "sigma0_n_per_m", "sigma1_ns_per_m", "sigma2_ns_per_m"},
+    {"friction.fs_n", "friction.fc_n", "friction.vs_m_per_s", "friction.sigma0_n_per_m",
+     "friction.sigma1_ns_per_m", "friction.sigma2_ns_per_m"},
+};
+
+ss_status_t ss_friction_config_check_named_f32(const ss_friction_config_f32_t *cfg, int prefixed,
+                                               const char **bad_field)
 {
-    const char *dummy = "";
-    const char **bad = (bad_field != NULL) ? bad_field : &dummy;
-    *bad = "";
+    *bad_field = "";
     if (cfg == NULL) {
-        *bad = "config";
+        *bad_field = "config";
         return SS_ERR_NULL;
     }
-    const ss_range_f32_t ranges[] = {
-        {"fs_n", cfg->fs_n, 1e-6f, 1e4f},
-        {"fc_n", cfg->fc_n, 1e-6f, 1e4f},
-        {"vs_m_per_s", cfg->vs_m_per_s, 1e-9f, 10.0f},
-        {"sigma0_n_per_m", cfg->sigma0_n_per_m, 1.0f, 1e12f},
-        {"sigma1_ns_per_m", cfg->sigma1_ns_per_m, 0.0f, 1e6f},
-        {"sigma2_ns_per_m", cfg->sigma2_ns_per_m, 0.0f, 1e6f},
+    const char *const *names = FIELD_NAMES[prefixed ? 1 : 0];
+    const ss_range_f32_t ranges[SS_FRICTION_N_FIELDS] = {
+        {names[0], cfg->fs_n, 1e-6f, 1e4f},           {names[1], cfg->fc_n, 1e-6f, 1e4f},
+        {names[2], cfg->vs_m_per_s, 1e-9f, 10.0f},    {names[3], cfg->sigma0_n_per_m, 1.0f, 1e12f},
+        {names[4], cfg->sigma1_ns_per_m, 0.0f, 1e6f}, {names[5], cfg->sigma2_ns_per_m, 0.0f, 1e6f},
     };
-    ss_status_t st = ss_check_ranges_f32(ranges, sizeof ranges / sizeof ranges[0], bad);
+    ss_status_t st = ss_check_ranges_f32(ranges, SS_FRICTION_N_FIELDS, bad_field);
     if (st == SS_OK && cfg->fc_n > cfg->fs_n) {
         /* Fc above Fs would make the Stribeck curve rise: not the physics either model describes. */
-        *bad = "fc_n";
+        *bad_field = names[1];
         st = SS_ERR_RANGE;
     }
     return st;
+}
+
+ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg, const char **bad_field)
+{
+    const char *dummy = "";
+    return ss_friction_config_check_named_f32(cfg, 0, (bad_field != NULL) ? bad_field : &dummy);
 }
 
 float ss_stribeck_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s)

@@ -1,6 +1,8 @@
 /* The two-mass actuator: validation, rest, direction, fall-time trend, convergence, long travel. */
 #include "ss_test.h"
 
+#include <string.h>
+
 #include "ss_abi.h"
 #include "ss_actuator.h"
 
@@ -167,6 +169,8 @@ static void test_run_matches_manual_steps(void **unused)
     ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, 2);
     ss_waveform_state_f32_t wa, wb;
     ss_actuator_state_f32_t a, b;
+    memset(&a, 0, sizeof a); /* equal padding, so the states compare byte for byte */
+    memset(&b, 0, sizeof b);
     ss_waveform_init_f32(&w, c.dt_s, &wa);
     ss_waveform_init_f32(&w, c.dt_s, &wb);
     ss_actuator_init_f32(&c, &a, 0.0f);
