@@ -3,14 +3,15 @@
 # Needs the dev tools (bash scripts/setup.sh --dev) and build/host/compile_commands.json.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-C_FILES=$(git ls-files 'lib/*.c' 'lib/*.h' 'host_sim/*.c' 'port/*.c' 'port/*.h' 'tests/c/*.c' 'tests/c/*.h' 'bench/*.c')
-C_SOURCES=$(git ls-files 'lib/src/*.c' 'host_sim/*.c' 'port/*.c')
+C_FILES=$(git ls-files 'lib/*.c' 'lib/*.h' 'app/*.c' 'app/*.h' 'host_sim/*.c' 'port/*.c' 'port/*.h' 'tests/c/*.c' \
+  'tests/c/*.h' 'bench/*.c')
+C_SOURCES=$(git ls-files 'lib/src/*.c' 'app/*.c' 'host_sim/*.c' 'port/*.c')
 
 echo "lint: clang-format"
 clang-format --dry-run --Werror $C_FILES
 echo "lint: cppcheck"
 cppcheck --enable=warning,style,performance,portability --std=c99 --inline-suppr --error-exitcode=1 -q \
-  -I lib/include $C_SOURCES
+  -I lib/include -I app -I port -I port/posix $C_SOURCES
 echo "lint: clang-tidy"
 clang-tidy -p build/host --quiet $C_SOURCES 2>/dev/null
 echo "lint: ruff"

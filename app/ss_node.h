@@ -1,0 +1,57 @@
+/* The stage-model node: the actuator of lib/ served over the protocol of docs/protocol.md.
+ * Shared by the host simulator (port/posix) and the firmware (port/cortex_m). */
+#ifndef SS_NODE_H
+#define SS_NODE_H
+
+#include <stdint.h>
+
+#include "ss_actuator.h"
+#include "ss_port.h"
+#include "ss_proto.h"
+
+#define SS_NODE_VERSION "0.1.0"
+#define SS_NODE_N_PARAMS 13u
+/* Steps a free run may take in one poll before it reads the link again. */
+#define SS_NODE_MAX_STEPS_PER_POLL 2000u
+
+/* The user-facing parameters (stick-slip-dataset/1 names); the library config is built from them. */
+typedef struct {
+    float value[SS_NODE_N_PARAMS];
+} ss_node_params_t;
+
+typedef struct {
+    const ss_port_link_t *link;
+    ss_node_params_t params;
+    ss_actuator_config_f32_t cfg;
+    ss_actuator_state_f32_t st;
+    ss_waveform_config_f32_t wave;
+    ss_waveform_state_f32_t wst;
+    uint8_t wave_loaded;
+    ss_proto_rx_t rx;
+    ss_proto_packet_t pkt;
+    uint8_t tx_seq;    /* the node's frame counter */
+    uint8_t last_seq;  /* seq of the last accepted request */
+    uint8_t have_last; /* a request was accepted in this session */
+    /* free run */
+    uint8_t running, paced, run_seq;
+    uint32_t run_left, run_done, run_decimation;
+    uint64_t run_t0_us;
+    uint8_t rows[SS_PROTO_MAX_ROWS * SS_PROTO_ROW_BYTES];
+    uint32_t n_rows, first_row_step;
+    uint8_t wire[SS_PROTO_MAX_WIRE];
+} ss_node_t;
+
+/* Table I parameters, LS friction, at rest. */
+void ss_node_init(ss_node_t *node, const ss_port_link_t *link);
+
+/* Read what the link has, answer it, and advance a free run. Returns -1 when the link reported
+ * the peer gone (the session is reset; the node stays usable), else 0. */
+int ss_node_poll(ss_node_t *node);
+
+/* Forget the session (decoder, sequence numbers, a run in progress); keep model and waveform. */
+void ss_node_session_reset(ss_node_t *node);
+
+/* Name of parameter id, or NULL. */
+const char *ss_node_param_name(uint32_t id);
+
+#endif /* SS_NODE_H */

@@ -1,0 +1,293 @@
+"""The drive-electronics side: a client for a stage-model node (docs/protocol.md), opened like a
+python-can bus (a context manager configured by a URL), and the host node launcher."""
+
+from __future__ import annotations
+
+import os
+import re
+import struct
+import subprocess
+import time
+from collections import deque
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import serial
+
+from ..model import Sawtooth
+from . import protocol as P
+
+
+class NodeError(RuntimeError):
+    """The node refused a request; `name` is the protocol's error name."""
+
+    def __init__(self, code: int, request_type: int, reason: str):
+        self.code, self.request_type, self.reason = code, request_type, reason
+        self.name = P.ERROR_NAMES.get(code, f"error_{code}")
+        super().__init__(f"node refused request 0x{request_type:02x}: {self.name}: {reason}")
+
+
+class LinkTimeoutError(TimeoutError):
+    """No reply in time: the request or its reply was lost."""
+
+
+@dataclass(frozen=True)
+class NodeInfo:
+    protocol: int
+    model: str
+    variant: str
+    n_params: int
+    dt_s: float
+    version: str
+
+
+@dataclass(frozen=True)
+class ParamInfo:
+    id: int
+    name: str
+    value: float
+    min: float
+    max: float
+
+
+@dataclass
+class Telemetry:
+    """Rows of the node's state: SI units, slider position summed in double."""
+
+    step: np.ndarray
+    drive_v: np.ndarray
+    x_rod_m: np.ndarray
+    x_slider_m: np.ndarray
+    friction_n: np.ndarray
+
+    @classmethod
+    def from_rows(cls, rows: list[tuple]) -> Telemetry:
+        a = np.array(rows, dtype=np.float64).reshape(-1, 6)
+        hi = np.array([r[3] for r in rows], dtype=np.float32).astype(np.float64)
+        lo = np.array([r[4] for r in rows], dtype=np.float32).astype(np.float64)
+        return cls(a[:, 0].astype(np.int64), a[:, 1], a[:, 2], hi + lo, a[:, 5])
+
+
+@dataclass
+class LinkStats:
+    frames_in: int = 0
+    lost_frames: int = 0  # gaps in the node's frame counter
+    duplicate_frames: int = 0
+    bad_frames: list[str] = field(default_factory=list)
+
+
+def _rows(payload: bytes, offset: int) -> tuple[int, list[tuple]]:
+    first, n = struct.unpack_from("<IH", payload, offset)
+    rows = [P.ROW.unpack_from(payload, offset + 6 + i * P.ROW.size) for i in range(n)]
+    return first, rows
+
+
+class NodeClient:
+    """A session with a node over serial: a device path (a pty or a UART) or a pyserial URL
+    (socket://127.0.0.1:PORT, loop://)."""
+
+    def __init__(self, url: str, timeout_s: float = 2.0):
+        self.url, self.timeout_s = url, timeout_s
+        self.port = serial.serial_for_url(url, baudrate=1_000_000, timeout=0.05)
+        self.reader = P.FrameReader()
+        self.seq = 0
+        self.stats = LinkStats()
+        self._node_seq: int | None = None
+        self._inbox: deque[P.Packet] = deque()
+        self.telemetry: list[tuple] = []
+        self.info = self.hello()
+
+    # context manager, like can.Bus
+    def __enter__(self) -> NodeClient:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self.port.close()
+
+    # ------------------------------------------------------------ transport
+    def send_raw(self, data: bytes) -> None:
+        self.port.write(data)
+        self.port.flush()
+
+    def _pump(self, deadline: float) -> bool:
+        data = self.port.read(max(1, self.port.in_waiting))
+        for item in self.reader.feed(data):
+            if isinstance(item, P.FrameError):
+                self.stats.bad_frames.append(item.reason)
+                continue
+            self.stats.frames_in += 1
+            if self._node_seq is not None:
+                gap = (item.seq - self._node_seq) & 0xFF
+                if gap == 0:
+                    self.stats.duplicate_frames += 1
+                    continue
+                self.stats.lost_frames += gap - 1
+            self._node_seq = item.seq
+            self._inbox.append(item)
+        return time.monotonic() < deadline
+
+    def _next(self, timeout_s: float) -> P.Packet:
+        deadline = time.monotonic() + timeout_s
+        while not self._inbox:
+            if not self._pump(deadline):
+                raise LinkTimeoutError(f"no frame from the node within {timeout_s} s")
+        return self._inbox.popleft()
+
+    def request(self, type_: int, payload: bytes = b"", timeout_s: float | None = None) -> bytes:
+        """Send one request and return its reply's payload (after ref_seq); telemetry that
+        arrives meanwhile is kept in self.telemetry."""
+        seq = self.seq
+        self.seq = (self.seq + 1) & 0xFF
+        self.send_raw(P.frame(type_, seq, payload))
+        return self.wait_reply(type_, seq, timeout_s)
+
+    def wait_reply(self, type_: int, seq: int, timeout_s: float | None = None) -> bytes:
+        deadline = time.monotonic() + (timeout_s or self.timeout_s)
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                waited = timeout_s or self.timeout_s
+                raise LinkTimeoutError(f"no reply to request 0x{type_:02x} (seq {seq}) within {waited} s")
+            pkt = self._next(left)
+            if pkt.type == P.TELEMETRY:
+                self.telemetry.extend(_rows(pkt.payload, 1)[1])
+            elif pkt.type == P.ERROR and pkt.payload[0] == seq:
+                reason = pkt.payload[3:].decode(errors="replace")
+                raise NodeError(pkt.payload[1], pkt.payload[2], reason)
+            elif pkt.type == (type_ | P.REPLY) and pkt.payload[0] == seq:
+                return pkt.payload[1:]
+            elif pkt.type == P.ERROR:
+                self.stats.bad_frames.append(
+                    f"unmatched error: {pkt.payload[3:].decode(errors='replace')}"
+                )
+
+    # ------------------------------------------------------------ requests
+    def hello(self) -> NodeInfo:
+        self._node_seq = None  # a new session
+        b = self.request(P.HELLO)
+        ver, model, variant, n, dt = struct.unpack_from("<BBBBf", b)
+        return NodeInfo(
+            ver, ("ls", "lugre")[model], ("float32", "fixed")[variant], n, dt, b[8:].decode()
+        )
+
+    def param_info(self, pid: int) -> ParamInfo:
+        b = self.request(P.PARAM_INFO, bytes([pid]))
+        i, v, lo, hi = struct.unpack_from("<Bfff", b)
+        return ParamInfo(i, b[13:].decode(), v, lo, hi)
+
+    def params(self) -> dict[str, ParamInfo]:
+        return {p.name: p for p in (self.param_info(i) for i in range(self.info.n_params))}
+
+    @staticmethod
+    def _key(param: int | str) -> bytes:
+        return bytes([param]) if isinstance(param, int) else b"\xff" + param.encode()
+
+    def get(self, param: int | str) -> float:
+        return struct.unpack_from("<Bf", self.request(P.GET_PARAM, self._key(param)))[1]
+
+    def set(self, param: int | str, value: float) -> float:
+        if isinstance(param, int):
+            payload = bytes([param]) + struct.pack("<f", value)
+        else:
+            payload = b"\xff" + struct.pack("<f", value) + param.encode()
+        return struct.unpack_from("<Bf", self.request(P.SET_PARAM, payload))[1]
+
+    def reset(self, drive0_v: float = 0.0) -> None:
+        self.request(P.RESET, struct.pack("<f", drive0_v))
+
+    def load_waveform(self, w: Sawtooth) -> None:
+        payload = struct.pack(
+            "<ffffbI",
+            w.frequency_hz,
+            w.amplitude_v,
+            w.offset_v,
+            w.rise_fraction,
+            w.direction,
+            w.cycles,
+        )
+        self.request(P.LOAD_WAVEFORM, payload)
+
+    def drive_block(self, drive_v: np.ndarray, decimation: int = 1) -> list[tuple]:
+        payload = struct.pack("<H", decimation) + np.asarray(drive_v, "<f4").tobytes()
+        return _rows(self.request(P.DRIVE_BLOCK, payload), 0)[1]
+
+    def lockstep(self, drive_v: np.ndarray, block: int = 40, decimation: int = 1) -> Telemetry:
+        """Co-simulate: send the drive (one sample per step) in blocks, collect the states."""
+        if block % decimation:
+            raise ValueError("block must be a multiple of decimation")
+        rows: list[tuple] = []
+        for i in range(0, len(drive_v), block):
+            rows += self.drive_block(drive_v[i : i + block], decimation)
+        return Telemetry.from_rows(rows)
+
+    def run(
+        self, steps: int, decimation: int = 1, paced: bool = False, timeout_s: float | None = None
+    ) -> Telemetry:
+        """Free run of the loaded waveform; telemetry until the node reports the run done."""
+        self.telemetry = []
+        budget = timeout_s or max(
+            self.timeout_s, 5.0 + steps * self.info.dt_s * (1.5 if paced else 0.2)
+        )
+        b = self.request(
+            P.RUN, struct.pack("<IHB", steps, decimation, int(paced)), timeout_s=budget
+        )
+        (done,) = struct.unpack_from("<I", b)
+        if done != steps:
+            raise RuntimeError(f"run ended after {done} of {steps} steps")
+        return Telemetry.from_rows(self.telemetry)
+
+    def stop(self) -> int:
+        return struct.unpack_from("<I", self.request(P.STOP))[0]
+
+
+# ---------------------------------------------------------------- the host node
+
+
+def node_binary() -> Path:
+    """The stickslip_node program: $STICKSLIP_NODE, the package's copy, or a development build."""
+    here = Path(__file__).resolve().parent.parent
+    for cand in (
+        os.environ.get("STICKSLIP_NODE"),
+        here / "bin" / "stickslip_node",
+        here.parents[1] / "build" / "host" / "host_sim" / "stickslip_node",
+    ):
+        if cand and Path(cand).is_file():
+            return Path(cand)
+    raise FileNotFoundError(
+        "stickslip_node not found: set STICKSLIP_NODE or build with cmake --preset host"
+    )
+
+
+class HostNode:
+    """Start stickslip_node as a child process; `url` is where to connect."""
+
+    def __init__(self, link: str = "pty"):
+        args = ["--pty"] if link == "pty" else ["--tcp", "0"]
+        self.proc = subprocess.Popen([str(node_binary()), *args], stdout=subprocess.PIPE, text=True)
+        line = self.proc.stdout.readline() if self.proc.stdout else ""
+        m = re.search(r"serial (pty (\S+)|tcp (\S+))", line)
+        if not m:
+            self.close()
+            raise RuntimeError(f"stickslip_node did not start: {line!r}")
+        self.url = m.group(2) or f"socket://{m.group(3)}"
+
+    def __enter__(self) -> HostNode:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def alive(self) -> bool:
+        return self.proc.poll() is None
+
+    def close(self) -> None:
+        if self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(5)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()

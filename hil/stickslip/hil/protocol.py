@@ -1,0 +1,148 @@
+"""The node protocol of docs/protocol.md: COBS framing, CRC-16/CCITT-FALSE, packets."""
+
+from __future__ import annotations
+
+import struct
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+VERSION = 1
+MAX_PAYLOAD = 1024
+OVERHEAD = 6
+MAX_PACKET = MAX_PAYLOAD + OVERHEAD
+MAX_WIRE = MAX_PACKET + MAX_PACKET // 254 + 2
+
+HELLO, PARAM_INFO, GET_PARAM, SET_PARAM, RESET, LOAD_WAVEFORM, DRIVE_BLOCK, RUN, STOP = range(1, 10)
+TELEMETRY, ERROR, REPLY = 0x10, 0x7F, 0x80
+MAX_ROWS = 40
+ROW = struct.Struct("<Ifffff")  # step, drive_v, x_rod_m, x_slider_hi_m, x_slider_lo_m, friction_n
+
+ERROR_NAMES = {
+    1: "bad_crc",
+    2: "bad_length",
+    3: "unknown_type",
+    4: "bad_payload",
+    5: "out_of_range",
+    6: "non_finite",
+    7: "duplicate",
+    8: "busy",
+    9: "bad_framing",
+    10: "oversize",
+    11: "no_waveform",
+    12: "unknown_param",
+}
+ERROR_CODES = {v: k for k, v in ERROR_NAMES.items()}
+
+
+def crc16(data: bytes) -> int:
+    crc = 0xFFFF
+    for b in data:
+        crc ^= b << 8
+        for _ in range(8):
+            crc = ((crc << 1) ^ 0x1021) & 0xFFFF if crc & 0x8000 else (crc << 1) & 0xFFFF
+    return crc
+
+
+def cobs_encode(data: bytes) -> bytes:
+    out = bytearray([0])
+    code_at, code = 0, 1
+    for b in data:
+        if b == 0:
+            out[code_at] = code
+            code_at, code = len(out), 1
+            out.append(0)
+        else:
+            out.append(b)
+            code += 1
+            if code == 0xFF:
+                out[code_at] = code
+                code_at, code = len(out), 1
+                out.append(0)
+    out[code_at] = code
+    return bytes(out)
+
+
+def cobs_decode(data: bytes) -> bytes:
+    out = bytearray()
+    i = 0
+    while i < len(data):
+        code = data[i]
+        i += 1
+        if code == 0 or i + code - 1 > len(data):
+            raise ValueError("invalid COBS")
+        chunk = data[i : i + code - 1]
+        if 0 in chunk:
+            raise ValueError("invalid COBS")
+        out += chunk
+        i += code - 1
+        if code != 0xFF and i < len(data):
+            out.append(0)
+    return bytes(out)
+
+
+def packet(type_: int, seq: int, payload: bytes = b"") -> bytes:
+    """The packet before COBS: header, payload, CRC."""
+    if len(payload) > MAX_PAYLOAD:
+        raise ValueError(f"payload of {len(payload)} bytes exceeds {MAX_PAYLOAD}")
+    head = struct.pack("<BBH", type_, seq & 0xFF, len(payload)) + payload
+    return head + struct.pack("<H", crc16(head))
+
+
+def frame(type_: int, seq: int, payload: bytes = b"") -> bytes:
+    """A complete wire frame: COBS(packet) + 0x00."""
+    return cobs_encode(packet(type_, seq, payload)) + b"\x00"
+
+
+@dataclass(frozen=True)
+class Packet:
+    type: int
+    seq: int
+    payload: bytes
+
+
+@dataclass(frozen=True)
+class FrameError:
+    """A frame that ended bad on this side (our receiver's view)."""
+
+    reason: str
+
+
+class FrameReader:
+    """Byte stream in, packets (or FrameError) out; resynchronises on 0x00."""
+
+    def __init__(self) -> None:
+        self.buf = bytearray()
+        self.overflow = False
+
+    def feed(self, data: bytes) -> Iterator[Packet | FrameError]:
+        for b in data:
+            if b != 0:
+                if len(self.buf) < MAX_WIRE:
+                    self.buf.append(b)
+                else:
+                    self.overflow = True
+                continue
+            raw, overflow = bytes(self.buf), self.overflow
+            self.buf.clear()
+            self.overflow = False
+            if overflow:
+                yield FrameError("oversize")
+                continue
+            if not raw:
+                continue
+            try:
+                pkt = cobs_decode(raw)
+            except ValueError:
+                yield FrameError("bad_framing")
+                continue
+            if len(pkt) < OVERHEAD:
+                yield FrameError("bad_length")
+                continue
+            type_, seq, n = struct.unpack_from("<BBH", pkt)
+            if n + OVERHEAD != len(pkt):
+                yield FrameError("bad_length")
+                continue
+            if struct.unpack_from("<H", pkt, 4 + n)[0] != crc16(pkt[: 4 + n]):
+                yield FrameError("bad_crc")
+                continue
+            yield Packet(type_, seq, pkt[4 : 4 + n])

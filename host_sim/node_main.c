@@ -1,0 +1,77 @@
+/* stickslip_node: the stage model served over a serial link (docs/protocol.md).
+ * The link is a pseudo-terminal (--pty, its path is printed) or TCP on 127.0.0.1 (--tcp PORT). */
+#define _POSIX_C_SOURCE 200809L
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ss_node.h"
+#include "ss_port_posix.h"
+
+static volatile sig_atomic_t stop_requested = 0;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    stop_requested = 1;
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: stickslip_node (--pty | --tcp PORT)\n"
+               "Serve the stick-slip stage model (Table I, LS friction, 1 us step) over a serial link.\n"
+               "  --pty        open a pseudo-terminal and print its path\n"
+               "  --tcp PORT   listen on 127.0.0.1:PORT (0: any free port, printed)\n"
+               "  --help       this text\n"
+               "Protocol: docs/protocol.md. Stop with SIGINT or SIGTERM.\n");
+}
+
+int main(int argc, char **argv)
+{
+    static ss_posix_link_t link; /* large buffers: not on the stack */
+    static ss_node_t node;
+    int ok;
+    if (argc == 2 && strcmp(argv[1], "--pty") == 0) {
+        char path[256];
+        ok = ss_posix_pty_open(&link, path, sizeof path) == 0;
+        if (ok) {
+            printf("stickslip_node: serial pty %s\n", path);
+        }
+    } else if (argc == 3 && strcmp(argv[1], "--tcp") == 0) {
+        char *end = NULL;
+        const long port = strtol(argv[2], &end, 10);
+        if (end == argv[2] || *end != '\0' || port < 0 || port > 65535) {
+            fprintf(stderr, "stickslip_node: --tcp: expected a port number 0..65535, got '%s'\n", argv[2]);
+            return 2;
+        }
+        ok = ss_posix_tcp_listen(&link, (uint16_t)port) == 0;
+        if (ok) {
+            printf("stickslip_node: serial tcp 127.0.0.1:%u\n", (unsigned)link.port);
+        }
+    } else if (argc == 2 && strcmp(argv[1], "--help") == 0) {
+        usage(stdout);
+        return 0;
+    } else {
+        usage(stderr);
+        return 2;
+    }
+    if (!ok) {
+        perror("stickslip_node: cannot open the link");
+        return 1;
+    }
+    fflush(stdout);
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
+    ss_node_init(&node, &link.link);
+    while (!stop_requested) {
+        (void)ss_node_poll(&node);
+        if (!node.running) {
+            ss_posix_wait(&link, 20);
+        } else if (node.paced) {
+            ss_posix_wait(&link, 0);
+        }
+    }
+    ss_posix_close(&link);
+    return 0;
+}

@@ -1,0 +1,21 @@
+/* The platform layer: a byte link and a clock. The node application (app/) knows nothing else of
+ * the platform; a port (port/posix, port/cortex_m) fills this struct. Callbacks and a context
+ * pointer, as littlefs's block device: no globals in the application. */
+#ifndef SS_PORT_H
+#define SS_PORT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct {
+    void *ctx;
+    /* Non-blocking read of up to max bytes: the count read (0 if none), or -1 when the peer is
+     * gone (the node then forgets the session and waits for the next). */
+    int32_t (*read)(void *ctx, uint8_t *buf, size_t max);
+    /* Write all n bytes as one piece (one TCP segment where it matters): n, or -1 on failure. */
+    int32_t (*write)(void *ctx, const uint8_t *buf, size_t n);
+    /* Monotonic microseconds. */
+    uint64_t (*time_us)(void *ctx);
+} ss_port_link_t;
+
+#endif /* SS_PORT_H */
