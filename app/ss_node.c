@@ -329,11 +329,11 @@ static void handle_drive_block(ss_node_t *n)
     for (uint32_t i = 0; i < count; ++i) {
         (void)ss_actuator_step_f32(&n->cfg, &n->st, ss_get_f32(&pk->payload[2u + 4u * i]));
         if ((i + 1u) % dec == 0u) {
-            put_row(&b[6u + SS_PROTO_ROW_BYTES * rows++], &n->st);
+            put_row(&b[6u + (size_t)SS_PROTO_ROW_BYTES * rows++], &n->st);
         }
     }
     ss_put_u16(&b[4], (uint16_t)rows);
-    send_reply(n, SS_MSG_DRIVE_BLOCK, b, 6u + SS_PROTO_ROW_BYTES * rows);
+    send_reply(n, SS_MSG_DRIVE_BLOCK, b, 6u + (size_t)SS_PROTO_ROW_BYTES * rows);
 }
 
 static void flush_rows(ss_node_t *n)
@@ -345,10 +345,10 @@ static void flush_rows(ss_node_t *n)
     p[0] = n->run_seq;
     ss_put_u32(&p[1], n->first_row_step);
     ss_put_u16(&p[5], (uint16_t)n->n_rows);
-    for (uint32_t i = 0; i < n->n_rows * SS_PROTO_ROW_BYTES; ++i) {
+    for (size_t i = 0; i < (size_t)n->n_rows * SS_PROTO_ROW_BYTES; ++i) {
         p[7 + i] = n->rows[i];
     }
-    send_frame(n, SS_MSG_TELEMETRY, p, 7u + n->n_rows * SS_PROTO_ROW_BYTES);
+    send_frame(n, SS_MSG_TELEMETRY, p, 7u + (size_t)n->n_rows * SS_PROTO_ROW_BYTES);
     n->n_rows = 0;
 }
 
@@ -414,7 +414,7 @@ static void advance_run(ss_node_t *n)
             if (n->n_rows == 0u) {
                 n->first_row_step = n->st.steps;
             }
-            put_row(&n->rows[SS_PROTO_ROW_BYTES * n->n_rows++], &n->st);
+            put_row(&n->rows[(size_t)SS_PROTO_ROW_BYTES * n->n_rows++], &n->st);
             if (n->n_rows == SS_PROTO_MAX_ROWS) {
                 flush_rows(n);
             }

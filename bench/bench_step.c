@@ -1,6 +1,5 @@
 /* Host speed of the actuator step: median ns per step over repeated runs of the paper's drive.
  * Usage: bench_step [repeats] [cycles]   (see bench/run_benchmarks.py) */
-#define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>

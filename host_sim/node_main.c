@@ -1,6 +1,5 @@
 /* stickslip_node: the stage model served over a serial link (docs/protocol.md).
  * The link is a pseudo-terminal (--pty, its path is printed) or TCP on 127.0.0.1 (--tcp PORT). */
-#define _POSIX_C_SOURCE 200809L
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,5 +1,3 @@
-#define _XOPEN_SOURCE 600
-#define _DEFAULT_SOURCE
 #include "ss_port_posix.h"
 
 #include <arpa/inet.h>
@@ -77,7 +75,7 @@ int ss_posix_pty_open(ss_posix_link_t *l, char *path, size_t cap)
     if (name == NULL || strlen(name) + 1u > cap) {
         return -1;
     }
-    strcpy(path, name);
+    memcpy(path, name, strlen(name) + 1u); /* length checked above */
     l->slave_fd = open(name, O_RDWR | O_NOCTTY);
     if (l->slave_fd < 0) {
         return -1;
