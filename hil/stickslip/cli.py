@@ -155,6 +155,52 @@ def cmd_figures(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_hil_node(a: argparse.Namespace) -> int:
+    import os
+
+    from .hil.client import node_binary
+
+    exe = str(node_binary())
+    args = [exe, "--pty"] if a.link == "pty" else [exe, "--tcp", str(a.port)]
+    sys.stdout.flush()
+    os.execv(exe, args)  # the node prints where it listens; Ctrl-C stops it
+    return 0  # not reached
+
+
+def cmd_hil_run(a: argparse.Namespace) -> int:
+    from .hil.client import HostNode, NodeClient
+    from .hil.session import node_params, play, record, summary
+
+    if a.link == "can":
+        raise CliError("--link can: the CAN (SLCAN) link is not implemented yet; use --link serial")
+    w = _waveform(a)
+    if a.decimation < 1:
+        raise CliError(f"--decimation: must be >= 1, got {a.decimation}")
+    node = None
+    url = a.url
+    try:
+        if url is None:
+            node = HostNode(a.node_link)
+            url = node.url
+        with NodeClient(url) as c:
+            run = play(c, w, a.mode, a.decimation, a.paced)
+            s = summary(run, c)
+            if a.out:
+                s["dataset"] = str(record(run, node_params(c), a.out))
+    finally:
+        if node is not None:
+            node.close()
+    if a.json:
+        print(json.dumps(s, indent=2))
+    else:
+        print(
+            f"{a.mode} over {url}: {run.steps} steps in {run.wall_s:.3f} s "
+            f"({run.steps_per_s:.0f} steps/s), mean step {s['mean_step_per_cycle_m'] * 1e6:.4f} um "
+            f"per cycle" + (f"; dataset in {a.out}" if a.out else "")
+        )
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="stickslip", description="Simulate, test and identify stick-slip piezo actuators."
@@ -192,6 +238,45 @@ def build_parser() -> argparse.ArgumentParser:
     )
     f.add_argument("--out", default="out/figures", help="folder for the PNGs and figures.json")
     f.set_defaults(func=cmd_figures)
+
+    h = sub.add_parser(
+        "hil",
+        help="hardware in the loop: the stage-model node and the drive emulator",
+        description="Serve the stage model as a node, or drive one as the electronics would.",
+    )
+    hs = h.add_subparsers(dest="hil_command", required=True)
+    hn = hs.add_parser("node", help="start a host node (stickslip_node) and print where it listens")
+    hn.add_argument("--link", choices=("pty", "tcp"), default="pty")
+    hn.add_argument("--port", type=int, default=0, help="TCP port on 127.0.0.1 (0: any free port)")
+    hn.set_defaults(func=cmd_hil_node)
+    hr = hs.add_parser(
+        "run",
+        help="play a sawtooth through a node and record a dataset",
+        description="Emulate the drive electronics: play a sawtooth through a node "
+        "(started here unless --url names one) and record the run.",
+    )
+    _add_waveform_options(hr)
+    hr.add_argument("--link", choices=("serial", "can"), default="serial")
+    hr.add_argument(
+        "--url", help="node to use: a device path (pty, UART) or socket://127.0.0.1:PORT"
+    )
+    hr.add_argument(
+        "--node-link",
+        choices=("pty", "tcp"),
+        default="pty",
+        help="how to reach the node started here (default pty)",
+    )
+    hr.add_argument(
+        "--mode",
+        choices=("lockstep", "free"),
+        default="lockstep",
+        help="lockstep: drive samples from here, step by step; free: the node plays it",
+    )
+    hr.add_argument("--decimation", type=int, default=1, help="keep every N-th step")
+    hr.add_argument("--paced", action="store_true", help="free mode: keep to real time")
+    hr.add_argument("--out", help="write the run as a stick-slip-dataset/1 folder")
+    hr.add_argument("--json", action="store_true", help="print a JSON summary")
+    hr.set_defaults(func=cmd_hil_run)
     return p
 
 
@@ -203,7 +288,7 @@ def main(argv: list[str] | None = None) -> int:
     except CliError as e:
         print(f"stickslip {a.command}: {e}", file=sys.stderr)
         return 2
-    except ValueError as e:  # bad parameters, dataset errors: the message says where
+    except (ValueError, OSError, RuntimeError) as e:  # the message says what and where
         print(f"stickslip {a.command}: {e}", file=sys.stderr)
         return 2
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import re
+import select
 import struct
 import subprocess
 import time
@@ -89,7 +90,8 @@ class NodeClient:
 
     def __init__(self, url: str, timeout_s: float = 2.0):
         self.url, self.timeout_s = url, timeout_s
-        self.port = serial.serial_for_url(url, baudrate=1_000_000, timeout=0.05)
+        # non-blocking: waiting is done with select on the port's descriptor (_read_available)
+        self.port = serial.serial_for_url(url, baudrate=1_000_000, timeout=0)
         self.reader = P.FrameReader()
         self.seq = 0
         self.stats = LinkStats()
@@ -113,8 +115,19 @@ class NodeClient:
         self.port.write(data)
         self.port.flush()
 
+    def _read_available(self, wait_s: float) -> bytes:
+        try:
+            fd = self.port.fileno()
+        except (AttributeError, NotImplementedError, serial.SerialException):
+            fd = None  # loop:// and other in-memory ports
+        if fd is None:
+            time.sleep(min(wait_s, 0.001))
+        else:
+            select.select([fd], [], [], max(0.0, min(wait_s, 0.05)))
+        return self.port.read(65536)
+
     def _pump(self, deadline: float) -> bool:
-        data = self.port.read(max(1, self.port.in_waiting))
+        data = self._read_available(deadline - time.monotonic())
         for item in self.reader.feed(data):
             if isinstance(item, P.FrameError):
                 self.stats.bad_frames.append(item.reason)
@@ -151,7 +164,9 @@ class NodeClient:
             left = deadline - time.monotonic()
             if left <= 0:
                 waited = timeout_s or self.timeout_s
-                raise LinkTimeoutError(f"no reply to request 0x{type_:02x} (seq {seq}) within {waited} s")
+                raise LinkTimeoutError(
+                    f"no reply to request 0x{type_:02x} (seq {seq}) within {waited} s"
+                )
             pkt = self._next(left)
             if pkt.type == P.TELEMETRY:
                 self.telemetry.extend(_rows(pkt.payload, 1)[1])

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import binascii
 import struct
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -35,12 +36,8 @@ ERROR_CODES = {v: k for k, v in ERROR_NAMES.items()}
 
 
 def crc16(data: bytes) -> int:
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b << 8
-        for _ in range(8):
-            crc = ((crc << 1) ^ 0x1021) & 0xFFFF if crc & 0x8000 else (crc << 1) & 0xFFFF
-    return crc
+    """CRC-16/CCITT-FALSE: binascii's CRC-CCITT (poly 0x1021, MSB first) from init 0xFFFF."""
+    return binascii.crc_hqx(data, 0xFFFF)
 
 
 def cobs_encode(data: bytes) -> bytes:
@@ -115,34 +112,33 @@ class FrameReader:
         self.overflow = False
 
     def feed(self, data: bytes) -> Iterator[Packet | FrameError]:
-        for b in data:
-            if b != 0:
-                if len(self.buf) < MAX_WIRE:
-                    self.buf.append(b)
-                else:
-                    self.overflow = True
-                continue
-            raw, overflow = bytes(self.buf), self.overflow
+        *complete, rest = bytes(data).split(b"\x00")
+        for part in complete:
+            raw = bytes(self.buf) + part
+            overflow = self.overflow or len(raw) > MAX_WIRE
             self.buf.clear()
             self.overflow = False
             if overflow:
                 yield FrameError("oversize")
-                continue
-            if not raw:
-                continue
-            try:
-                pkt = cobs_decode(raw)
-            except ValueError:
-                yield FrameError("bad_framing")
-                continue
-            if len(pkt) < OVERHEAD:
-                yield FrameError("bad_length")
-                continue
-            type_, seq, n = struct.unpack_from("<BBH", pkt)
-            if n + OVERHEAD != len(pkt):
-                yield FrameError("bad_length")
-                continue
-            if struct.unpack_from("<H", pkt, 4 + n)[0] != crc16(pkt[: 4 + n]):
-                yield FrameError("bad_crc")
-                continue
-            yield Packet(type_, seq, pkt[4 : 4 + n])
+            elif raw:
+                yield self._judge(raw)
+        if len(self.buf) + len(rest) > MAX_WIRE:
+            self.overflow = True  # discard up to the next delimiter
+            self.buf.clear()
+        elif not self.overflow:
+            self.buf += rest
+
+    @staticmethod
+    def _judge(raw: bytes) -> Packet | FrameError:
+        try:
+            pkt = cobs_decode(raw)
+        except ValueError:
+            return FrameError("bad_framing")
+        if len(pkt) < OVERHEAD:
+            return FrameError("bad_length")
+        type_, seq, n = struct.unpack_from("<BBH", pkt)
+        if n + OVERHEAD != len(pkt):
+            return FrameError("bad_length")
+        if struct.unpack_from("<H", pkt, 4 + n)[0] != crc16(pkt[: 4 + n]):
+            return FrameError("bad_crc")
+        return Packet(type_, seq, pkt[4 : 4 + n])

@@ -1,0 +1,110 @@
+"""A HIL session as the drive electronics run it: play a sawtooth through a node (lock-step or
+free-running) and record the run as a stick-slip-dataset/1 folder."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .. import dataset as D
+from ..model import ActuatorParams, Sawtooth, simulate
+from .client import NodeClient, Telemetry
+
+
+@dataclass
+class HilRun:
+    waveform: Sawtooth
+    mode: str
+    telemetry: Telemetry
+    dt_s: float
+    wall_s: float
+    steps: int
+    drive0_v: float
+    x_rod0_m: float
+
+    @property
+    def steps_per_s(self) -> float:
+        return self.steps / self.wall_s
+
+    def table(self) -> dict[str, np.ndarray]:
+        """Columns with the rest state at t = 0 first."""
+        tel = self.telemetry
+        return {
+            "t_s": np.concatenate([[0.0], tel.step * self.dt_s]),
+            "drive_v": np.concatenate([[self.drive0_v], tel.drive_v]),
+            "x_m": np.concatenate([[0.0], tel.x_slider_m]),
+            "x_rod_m": np.concatenate([[self.x_rod0_m], tel.x_rod_m]),
+            "friction_n": np.concatenate([[0.0], tel.friction_n]),
+        }
+
+    def mean_step_m(self) -> float:
+        t = self.table()
+        k = np.arange(self.waveform.cycles + 1) * self.waveform.period_s
+        return float(np.mean(np.diff(np.interp(k, t["t_s"], t["x_m"]))))
+
+
+def node_params(client: NodeClient) -> ActuatorParams:
+    values = {name: p.value for name, p in client.params().items() if name != "friction_model"}
+    return ActuatorParams.from_dict(values, "node parameters")
+
+
+def play(
+    client: NodeClient,
+    w: Sawtooth,
+    mode: str = "lockstep",
+    decimation: int = 1,
+    paced: bool = False,
+) -> HilRun:
+    """Play w through the node. lockstep: the drive is generated here (the sawtooth of the C
+    library, one sample per step) and sent in blocks; free: the node plays it itself."""
+    dt = client.info.dt_s
+    steps = int(round(w.duration_s / dt))
+    if mode == "lockstep":
+        drive = simulate(w, model=client.info.model, dt_s=dt).drive_v.astype(np.float32)
+        block = max(decimation, (40 // decimation) * decimation)
+        client.reset(float(drive[0]))
+        t0 = time.perf_counter()
+        tel = client.lockstep(drive[1 : steps + 1], block=block, decimation=decimation)
+    elif mode == "free":
+        client.load_waveform(w)
+        t0 = time.perf_counter()
+        tel = client.run(steps, decimation, paced)
+    else:
+        raise ValueError(f"mode must be lockstep or free, got {mode!r}")
+    wall = time.perf_counter() - t0
+    gain = client.get("piezo_gain_m_per_v")
+    drive0 = float(np.float32(w.offset_v))
+    return HilRun(w, mode, tel, dt, wall, steps, drive0, gain * drive0)
+
+
+def record(run: HilRun, params: ActuatorParams, out: str | Path, run_id: str = "hil") -> Path:
+    t = run.table()
+    r = D.Run(
+        run_id,
+        Path(out) / f"{run_id}.csv",
+        t["t_s"],
+        t["drive_v"],
+        t["x_m"],
+        run.waveform,
+        {"x_rod_m": t["x_rod_m"], "friction_n": t["friction_n"]},
+    )
+    desc = f"HIL {run.mode} run through a stickslip node, {run.steps} steps of {run.dt_s:g} s"
+    return D.write(out, params, [r], desc)
+
+
+def summary(run: HilRun, client: NodeClient) -> dict:
+    return {
+        "mode": run.mode,
+        "url": client.url,
+        "node": asdict(client.info),
+        "waveform": run.waveform.to_dict(),
+        "steps": run.steps,
+        "rows": len(run.telemetry.step),
+        "wall_s": run.wall_s,
+        "steps_per_s": run.steps_per_s,
+        "mean_step_per_cycle_m": run.mean_step_m(),
+        "link": asdict(client.stats),
+    }
