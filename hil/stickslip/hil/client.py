@@ -3,6 +3,7 @@ python-can bus (a context manager configured by a URL), and the host node launch
 
 from __future__ import annotations
 
+import io
 import os
 import re
 import select
@@ -88,7 +89,7 @@ class NodeClient:
     """A session with a node over serial: a device path (a pty or a UART) or a pyserial URL
     (socket://127.0.0.1:PORT, loop://)."""
 
-    def __init__(self, url: str, timeout_s: float = 2.0):
+    def __init__(self, url: str, timeout_s: float = 2.0, handshake: bool = True):
         self.url, self.timeout_s = url, timeout_s
         # non-blocking: waiting is done with select on the port's descriptor (_read_available)
         self.port = serial.serial_for_url(url, baudrate=1_000_000, timeout=0)
@@ -98,7 +99,8 @@ class NodeClient:
         self._node_seq: int | None = None
         self._inbox: deque[P.Packet] = deque()
         self.telemetry: list[tuple] = []
-        self.info = self.hello()
+        if handshake:
+            self.info = self.hello()
 
     # context manager, like can.Bus
     def __enter__(self) -> NodeClient:
@@ -118,7 +120,12 @@ class NodeClient:
     def _read_available(self, wait_s: float) -> bytes:
         try:
             fd = self.port.fileno()
-        except (AttributeError, NotImplementedError, serial.SerialException):
+        except (
+            AttributeError,
+            NotImplementedError,
+            io.UnsupportedOperation,
+            serial.SerialException,
+        ):
             fd = None  # loop:// and other in-memory ports
         if fd is None:
             time.sleep(min(wait_s, 0.001))
@@ -159,15 +166,16 @@ class NodeClient:
         return self.wait_reply(type_, seq, timeout_s)
 
     def wait_reply(self, type_: int, seq: int, timeout_s: float | None = None) -> bytes:
-        deadline = time.monotonic() + (timeout_s or self.timeout_s)
+        waited = timeout_s or self.timeout_s
+        deadline = time.monotonic() + waited
         while True:
-            left = deadline - time.monotonic()
-            if left <= 0:
-                waited = timeout_s or self.timeout_s
+            try:
+                pkt = self._next(deadline - time.monotonic())
+            except LinkTimeoutError:
                 raise LinkTimeoutError(
-                    f"no reply to request 0x{type_:02x} (seq {seq}) within {waited} s"
-                )
-            pkt = self._next(left)
+                    f"no reply to request 0x{type_:02x} (seq {seq}) within {waited} s: "
+                    "the request or its reply was lost"
+                ) from None
             if pkt.type == P.TELEMETRY:
                 self.telemetry.extend(_rows(pkt.payload, 1)[1])
             elif pkt.type == P.ERROR and pkt.payload[0] == seq:
