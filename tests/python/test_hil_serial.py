@@ -200,7 +200,10 @@ def test_lost_and_duplicated_node_frames_are_counted():
 
 
 def test_lost_request_times_out_with_a_name(tcp_node):
-    with NodeClient(tcp_node.url, timeout_s=0.3) as c, pytest.raises(LinkTimeoutError, match="0x03"):
+    with (
+        NodeClient(tcp_node.url, timeout_s=0.3) as c,
+        pytest.raises(LinkTimeoutError, match="0x03"),
+    ):
         c.wait_reply(P.GET_PARAM, 77)  # a request that never arrived
 
 
