@@ -116,6 +116,9 @@ void ss_node_session_reset(ss_node_t *n)
 void ss_node_init(ss_node_t *n, const ss_port_link_t *link)
 {
     n->link = link;
+    n->can = 0;
+    n->wave_pending = ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, 20);
+    n->have_drive_seq = 0;
     for (uint32_t i = 0; i < SS_NODE_N_PARAMS; ++i) {
         n->params.value[i] = PARAMS[i].def;
     }
@@ -127,6 +130,45 @@ void ss_node_init(ss_node_t *n, const ss_port_link_t *link)
 }
 
 /* ------------------------------------------------------------------ requests */
+
+/* Check and apply one parameter; on refusal *why says what (the library's field name). */
+static ss_proto_error_t set_param(ss_node_t *n, uint32_t id, float v, const char **why)
+{
+    if (!isfinite(v)) {
+        *why = "not a finite number";
+        return SS_PERR_NON_FINITE;
+    }
+    if (v < PARAMS[id].min || v > PARAMS[id].max || (id == P_MODEL && v != 0.0f && v != 1.0f)) {
+        *why = "outside its range";
+        return SS_PERR_OUT_OF_RANGE;
+    }
+    ss_node_params_t next = n->params;
+    next.value[id] = v;
+    const ss_actuator_config_f32_t cfg = config_from(&next);
+    const ss_status_t st = ss_actuator_config_check_f32(&cfg, why);
+    if (st != SS_OK) {
+        return (st == SS_ERR_NONFINITE) ? SS_PERR_NON_FINITE : SS_PERR_OUT_OF_RANGE;
+    }
+    n->params = next;
+    n->cfg = cfg;
+    model_rest(n, n->wave_loaded ? ss_waveform_value_f32(&n->wave, &n->wst) : 0.0f);
+    return SS_PERR_NONE;
+}
+
+/* Check and load a sawtooth; the model goes to rest at its start. */
+static ss_proto_error_t load_waveform(ss_node_t *n, const ss_waveform_config_f32_t *w, const char **why)
+{
+    ss_waveform_state_f32_t ws;
+    const ss_status_t st = ss_waveform_init_f32(w, n->cfg.dt_s, &ws);
+    if (st != SS_OK) {
+        *why = ss_status_str(st);
+        return (st == SS_ERR_NONFINITE) ? SS_PERR_NON_FINITE : SS_PERR_OUT_OF_RANGE;
+    }
+    n->wave = *w;
+    n->wave_loaded = 1;
+    model_rest(n, ss_waveform_value_f32(&n->wave, &ws));
+    return SS_PERR_NONE;
+}
 
 static int find_param(const ss_proto_packet_t *pk, size_t name_at, uint32_t *id)
 {
@@ -232,27 +274,12 @@ static void handle_set_param(ss_node_t *n)
         send_error(n, SS_PERR_UNKNOWN_PARAM, pk->type, pk->seq, "no parameter with that id", "");
         return;
     }
-    if (!isfinite(v)) {
-        send_error(n, SS_PERR_NON_FINITE, pk->type, pk->seq, PARAMS[id].name, "not a finite number");
+    const char *why = "";
+    const ss_proto_error_t e = set_param(n, id, v, &why);
+    if (e != SS_PERR_NONE) {
+        send_error(n, e, pk->type, pk->seq, PARAMS[id].name, why);
         return;
     }
-    if (v < PARAMS[id].min || v > PARAMS[id].max || (id == P_MODEL && v != 0.0f && v != 1.0f)) {
-        send_error(n, SS_PERR_OUT_OF_RANGE, pk->type, pk->seq, PARAMS[id].name, "outside its range");
-        return;
-    }
-    ss_node_params_t next = n->params;
-    next.value[id] = v;
-    const ss_actuator_config_f32_t cfg = config_from(&next);
-    const char *bad = "";
-    const ss_status_t st = ss_actuator_config_check_f32(&cfg, &bad);
-    if (st != SS_OK) {
-        send_error(n, (st == SS_ERR_NONFINITE) ? SS_PERR_NON_FINITE : SS_PERR_OUT_OF_RANGE, pk->type, pk->seq,
-                   PARAMS[id].name, bad);
-        return;
-    }
-    n->params = next;
-    n->cfg = cfg;
-    model_rest(n, n->wave_loaded ? ss_waveform_value_f32(&n->wave, &n->wst) : 0.0f);
     uint8_t b[5];
     b[0] = (uint8_t)id;
     ss_put_f32(&b[1], v);
@@ -290,16 +317,12 @@ static void handle_load_waveform(ss_node_t *n)
     ss_waveform_config_f32_t w =
         ss_waveform_sawtooth_f32(ss_get_f32(p), ss_get_f32(p + 4), ss_get_f32(p + 8), ss_get_f32(p + 12),
                                  (int32_t)(int8_t)p[16], ss_get_u32(p + 17));
-    ss_waveform_state_f32_t ws;
-    const ss_status_t st = ss_waveform_init_f32(&w, n->cfg.dt_s, &ws);
-    if (st != SS_OK) {
-        send_error(n, (st == SS_ERR_NONFINITE) ? SS_PERR_NON_FINITE : SS_PERR_OUT_OF_RANGE, pk->type, pk->seq,
-                   "waveform", ss_status_str(st));
+    const char *why = "";
+    const ss_proto_error_t e = load_waveform(n, &w, &why);
+    if (e != SS_PERR_NONE) {
+        send_error(n, e, pk->type, pk->seq, "waveform", why);
         return;
     }
-    n->wave = w;
-    n->wave_loaded = 1;
-    model_rest(n, ss_waveform_value_f32(&n->wave, &ws));
     send_reply(n, SS_MSG_LOAD_WAVEFORM, 0, 0);
 }
 
@@ -336,6 +359,31 @@ static void handle_drive_block(ss_node_t *n)
     send_reply(n, SS_MSG_DRIVE_BLOCK, b, 6u + (size_t)SS_PROTO_ROW_BYTES * rows);
 }
 
+static uint64_t now_us(const ss_node_t *n)
+{
+    return (n->can != 0) ? n->can->time_us(n->can->ctx) : n->link->time_us(n->link->ctx);
+}
+
+static void can_send_state(ss_node_t *n)
+{
+    const ss_can_state_t m = {n->st.steps,   n->st.drive_v,       n->st.x_rod_m,
+                              n->st.force_n, n->st.x_slider.hi_m, n->st.x_slider.lo_m};
+    ss_can_frame_t f[3];
+    ss_can_pack_state(&m, f);
+    for (int i = 0; i < 3; ++i) {
+        (void)n->can->write(n->can->ctx, &f[i]);
+    }
+}
+
+static void can_reply(ss_node_t *n, uint8_t cmd, uint8_t seq, ss_proto_error_t status, uint8_t index,
+                      float value)
+{
+    const ss_can_reply_t m = {cmd, seq, (uint8_t)status, index, value};
+    ss_can_frame_t f;
+    ss_can_pack_reply(&m, &f);
+    (void)n->can->write(n->can->ctx, &f);
+}
+
 static void flush_rows(ss_node_t *n)
 {
     if (n->n_rows == 0u) {
@@ -354,8 +402,13 @@ static void flush_rows(ss_node_t *n)
 
 static void end_run(ss_node_t *n, uint8_t reply_type, uint8_t ref_seq)
 {
-    flush_rows(n);
     n->running = 0;
+    if (n->can != 0) {
+        can_reply(n, (reply_type == SS_MSG_RUN) ? SS_CAN_CMD_RUN : SS_CAN_CMD_STOP, ref_seq, SS_PERR_NONE, 0,
+                  (float)n->run_done);
+        return;
+    }
+    flush_rows(n);
     uint8_t p[5];
     p[0] = ref_seq;
     ss_put_u32(&p[1], n->run_done);
@@ -385,7 +438,7 @@ static void handle_run(ss_node_t *n)
     n->paced = pk->payload[6];
     n->run_done = 0;
     n->n_rows = 0;
-    n->run_t0_us = n->link->time_us(n->link->ctx);
+    n->run_t0_us = now_us(n);
     if (n->run_left == 0u) {
         end_run(n, SS_MSG_RUN, n->run_seq);
     }
@@ -395,7 +448,7 @@ static void advance_run(ss_node_t *n)
 {
     uint32_t todo = n->run_left;
     if (n->paced) {
-        const uint64_t now = n->link->time_us(n->link->ctx);
+        const uint64_t now = now_us(n);
         const uint64_t due = (uint64_t)((float)(now - n->run_t0_us) / (n->cfg.dt_s * 1e6f));
         const uint64_t behind = (due > n->run_done) ? due - n->run_done : 0u;
         if (behind < todo) {
@@ -410,7 +463,9 @@ static void advance_run(ss_node_t *n)
         (void)ss_actuator_step_f32(&n->cfg, &n->st, ss_waveform_value_f32(&n->wave, &n->wst));
         n->run_done++;
         n->run_left--;
-        if (n->run_done % n->run_decimation == 0u) {
+        if (n->run_done % n->run_decimation == 0u && n->can != 0) {
+            can_send_state(n);
+        } else if (n->run_done % n->run_decimation == 0u) {
             if (n->n_rows == 0u) {
                 n->first_row_step = n->st.steps;
             }
@@ -484,6 +539,170 @@ int ss_node_poll(ss_node_t *n)
         } else if (complete) {
             handle_packet(n);
         }
+    }
+    if (n->running) {
+        advance_run(n);
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------ CAN front end */
+
+void ss_node_init_can(ss_node_t *n, const ss_port_can_t *can)
+{
+    ss_node_init(n, 0);
+    n->can = can;
+}
+
+static ss_proto_error_t can_set_wave(ss_node_t *n, uint8_t field, float v)
+{
+    ss_waveform_config_f32_t *w = &n->wave_pending;
+    if (!isfinite(v)) {
+        return SS_PERR_NON_FINITE;
+    }
+    switch (field) {
+    case 0: w->frequency_hz = v; break;
+    case 1: w->amplitude_v = v; break;
+    case 2: w->offset_v = v; break;
+    case 3: w->rise_fraction = v; break;
+    case 4:
+        if (v != 1.0f && v != -1.0f) {
+            return SS_PERR_OUT_OF_RANGE;
+        }
+        w->direction = (int32_t)v;
+        break;
+    case 5:
+        if (v < 0.0f || v > 4e9f || v != (float)(uint32_t)v) {
+            return SS_PERR_OUT_OF_RANGE;
+        }
+        w->cycles = (uint32_t)v;
+        break;
+    default: return SS_PERR_OUT_OF_RANGE;
+    }
+    return SS_PERR_NONE;
+}
+
+static void can_command(ss_node_t *n, const ss_can_cmd_t *c)
+{
+    const char *why = "";
+    ss_proto_error_t e = SS_PERR_NONE;
+    float value = 0.0f;
+    uint8_t index = c->index;
+    if (c->cmd == SS_CAN_CMD_HELLO) {
+        n->running = 0;
+        n->have_last = 1;
+        n->last_seq = c->seq;
+        n->have_drive_seq = 0;
+        can_reply(n, c->cmd, c->seq, SS_PERR_NONE, (uint8_t)n->cfg.friction_model, n->cfg.dt_s);
+        return;
+    }
+    if (n->have_last && c->seq == n->last_seq) {
+        can_reply(n, c->cmd, c->seq, SS_PERR_DUPLICATE, index, 0.0f);
+        return;
+    }
+    n->have_last = 1;
+    n->last_seq = c->seq;
+    if (n->running && c->cmd != SS_CAN_CMD_STOP) {
+        can_reply(n, c->cmd, c->seq, SS_PERR_BUSY, index, 0.0f);
+        return;
+    }
+    switch (c->cmd) {
+    case SS_CAN_CMD_GET_PARAM:
+    case SS_CAN_CMD_SET_PARAM:
+        if (c->index >= SS_NODE_N_PARAMS) {
+            e = SS_PERR_UNKNOWN_PARAM;
+        } else if (c->cmd == SS_CAN_CMD_SET_PARAM) {
+            e = set_param(n, c->index, c->value, &why);
+        }
+        value = (e == SS_PERR_NONE) ? n->params.value[c->index] : 0.0f;
+        break;
+    case SS_CAN_CMD_RESET:
+        if (!isfinite(c->value)) {
+            e = SS_PERR_NON_FINITE;
+        } else if (fabsf(c->value) > 1e5f) {
+            e = SS_PERR_OUT_OF_RANGE;
+        } else {
+            model_rest(n, c->value);
+        }
+        break;
+    case SS_CAN_CMD_SET_WAVE: e = can_set_wave(n, c->index, c->value); break;
+    case SS_CAN_CMD_LOAD_WAVE: e = load_waveform(n, &n->wave_pending, &why); break;
+    case SS_CAN_CMD_RUN:
+        if (!n->wave_loaded) {
+            e = SS_PERR_NO_WAVEFORM;
+        } else if (c->index == 0u || c->flags > 1u || !isfinite(c->value) || c->value < 0.0f ||
+                   c->value > 4e9f || c->value != (float)(uint32_t)c->value) {
+            e = SS_PERR_OUT_OF_RANGE;
+        } else {
+            n->running = 1;
+            n->run_seq = c->seq;
+            n->run_left = (uint32_t)c->value;
+            n->run_decimation = c->index;
+            n->paced = c->flags;
+            n->run_done = 0;
+            n->run_t0_us = now_us(n);
+            if (n->run_left == 0u) {
+                end_run(n, SS_MSG_RUN, n->run_seq);
+            }
+            return; /* the reply comes when the run ends */
+        }
+        break;
+    case SS_CAN_CMD_STOP:
+        if (n->running) {
+            end_run(n, SS_MSG_STOP, c->seq);
+            return;
+        }
+        break;
+    default: e = SS_PERR_UNKNOWN_TYPE; break;
+    }
+    (void)why;
+    can_reply(n, c->cmd, c->seq, e, index, value);
+}
+
+static void can_drive(ss_node_t *n, const ss_can_drive_t *d)
+{
+    const uint8_t drive_cmd = 0x10; /* replies about drive frames carry this cmd */
+    if (n->have_drive_seq && d->seq == n->drive_seq) {
+        can_reply(n, drive_cmd, d->seq, SS_PERR_DUPLICATE, 0, 0.0f);
+        return;
+    }
+    if (n->running) {
+        can_reply(n, drive_cmd, d->seq, SS_PERR_BUSY, 0, 0.0f);
+        return;
+    }
+    if (!isfinite(d->drive_v)) {
+        can_reply(n, drive_cmd, d->seq, SS_PERR_NON_FINITE, 0, 0.0f);
+        return;
+    }
+    n->have_drive_seq = 1;
+    n->drive_seq = d->seq;
+    (void)ss_actuator_step_f32(&n->cfg, &n->st, d->drive_v);
+    if (d->report) {
+        can_send_state(n);
+    }
+}
+
+int ss_node_poll_can(ss_node_t *n)
+{
+    for (int i = 0; i < 64; ++i) {
+        ss_can_frame_t f;
+        const int32_t got = n->can->read(n->can->ctx, &f);
+        if (got < 0) {
+            n->running = 0;
+            n->have_last = 0;
+            n->have_drive_seq = 0;
+            return -1;
+        }
+        if (got == 0) {
+            break;
+        }
+        ss_can_cmd_t c;
+        ss_can_drive_t d;
+        if (ss_can_unpack_cmd(&f, &c)) {
+            can_command(n, &c);
+        } else if (ss_can_unpack_drive(&f, &d)) {
+            can_drive(n, &d);
+        } /* other traffic on the bus is not for this node */
     }
     if (n->running) {
         advance_run(n);

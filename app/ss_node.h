@@ -6,6 +6,7 @@
 #include <stdint.h>
 
 #include "ss_actuator.h"
+#include "ss_can_msg.h"
 #include "ss_port.h"
 #include "ss_proto.h"
 
@@ -20,7 +21,10 @@ typedef struct {
 } ss_node_params_t;
 
 typedef struct {
-    const ss_port_link_t *link;
+    const ss_port_link_t *link;            /* serial front end, or NULL */
+    const ss_port_can_t *can;              /* CAN front end, or NULL */
+    ss_waveform_config_f32_t wave_pending; /* CAN: SET_WAVE fields until LOAD_WAVE */
+    uint8_t drive_seq, have_drive_seq;     /* CAN: last lock-step drive frame */
     ss_node_params_t params;
     ss_actuator_config_f32_t cfg;
     ss_actuator_state_f32_t st;
@@ -44,9 +48,15 @@ typedef struct {
 /* Table I parameters, LS friction, at rest. */
 void ss_node_init(ss_node_t *node, const ss_port_link_t *link);
 
+/* The same node on a CAN link (docs/protocol.md, CAN). */
+void ss_node_init_can(ss_node_t *node, const ss_port_can_t *can);
+
 /* Read what the link has, answer it, and advance a free run. Returns -1 when the link reported
  * the peer gone (the session is reset; the node stays usable), else 0. */
 int ss_node_poll(ss_node_t *node);
+
+/* As ss_node_poll, for a node made with ss_node_init_can. */
+int ss_node_poll_can(ss_node_t *node);
 
 /* Forget the session (decoder, sequence numbers, a run in progress); keep model and waveform. */
 void ss_node_session_reset(ss_node_t *node);

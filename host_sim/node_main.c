@@ -4,9 +4,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "ss_node.h"
 #include "ss_port_posix.h"
+#include "ss_port_slcan.h"
+#include "ss_port_socketcan.h"
 
 static volatile sig_atomic_t stop_requested = 0;
 
@@ -18,18 +21,25 @@ static void on_signal(int sig)
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: stickslip_node (--pty | --tcp PORT)\n"
-               "Serve the stick-slip stage model (Table I, LS friction, 1 us step) over a serial link.\n"
-               "  --pty        open a pseudo-terminal and print its path\n"
-               "  --tcp PORT   listen on 127.0.0.1:PORT (0: any free port, printed)\n"
-               "  --help       this text\n"
-               "Protocol: docs/protocol.md. Stop with SIGINT or SIGTERM.\n");
+    fprintf(f,
+            "usage: stickslip_node (--pty | --tcp PORT | --can-pty | --can-tcp PORT | --socketcan IFACE)\n"
+            "Serve the stick-slip stage model (Table I, LS friction, 1 us step) over a serial or CAN link.\n"
+            "  --pty              serial protocol on a new pseudo-terminal (its path is printed)\n"
+            "  --tcp PORT         serial protocol on 127.0.0.1:PORT (0: any free port, printed)\n"
+            "  --can-pty          CAN frames over SLCAN on a new pseudo-terminal\n"
+            "  --can-tcp PORT     CAN frames over SLCAN on 127.0.0.1:PORT (python-can slcan, socket://)\n"
+            "  --socketcan IFACE  CAN frames on a SocketCAN interface (vcan0, can0)\n"
+            "  --help             this text\n"
+            "Protocol and CAN messages: docs/protocol.md, hil/stickslip/hil/stickslip.dbc.\n");
 }
 
 int main(int argc, char **argv)
 {
     static ss_posix_link_t link; /* large buffers: not on the stack */
+    static ss_slcan_port_t slcan;
+    static ss_socketcan_t socketcan;
     static ss_node_t node;
+    const ss_port_can_t *can = NULL;
     int ok;
     if (argc == 2 && strcmp(argv[1], "--pty") == 0) {
         char path[256];
@@ -48,6 +58,32 @@ int main(int argc, char **argv)
         if (ok) {
             printf("stickslip_node: serial tcp 127.0.0.1:%u\n", (unsigned)link.port);
         }
+    } else if (argc == 2 && strcmp(argv[1], "--can-pty") == 0) {
+        char path[256];
+        ok = ss_posix_pty_open(&link, path, sizeof path) == 0;
+        if (ok) {
+            printf("stickslip_node: slcan pty %s\n", path);
+        }
+        can = &slcan.can;
+    } else if (argc == 3 && strcmp(argv[1], "--can-tcp") == 0) {
+        char *end = NULL;
+        const long port = strtol(argv[2], &end, 10);
+        if (end == argv[2] || *end != '\0' || port < 0 || port > 65535) {
+            fprintf(stderr, "stickslip_node: --can-tcp: expected a port number 0..65535, got '%s'\n",
+                    argv[2]);
+            return 2;
+        }
+        ok = ss_posix_tcp_listen(&link, (uint16_t)port) == 0;
+        if (ok) {
+            printf("stickslip_node: slcan tcp 127.0.0.1:%u\n", (unsigned)link.port);
+        }
+        can = &slcan.can;
+    } else if (argc == 3 && strcmp(argv[1], "--socketcan") == 0) {
+        ok = ss_socketcan_open(&socketcan, argv[2]) == 0;
+        if (ok) {
+            printf("stickslip_node: socketcan %s\n", argv[2]);
+        }
+        can = &socketcan.can;
     } else if (argc == 2 && strcmp(argv[1], "--help") == 0) {
         usage(stdout);
         return 0;
@@ -62,15 +98,33 @@ int main(int argc, char **argv)
     fflush(stdout);
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
-    ss_node_init(&node, &link.link);
+    if (can == &slcan.can) {
+        ss_slcan_port_init(&slcan, &link.link);
+    }
+    if (can != NULL) {
+        ss_node_init_can(&node, can);
+    } else {
+        ss_node_init(&node, &link.link);
+    }
     while (!stop_requested) {
-        (void)ss_node_poll(&node);
-        if (!node.running) {
+        if (can != NULL) {
+            (void)ss_node_poll_can(&node);
+        } else {
+            (void)ss_node_poll(&node);
+        }
+        if (can == &socketcan.can) {
+            if (!node.running) {
+                struct timespec ts = {0, 200000};
+                nanosleep(&ts, NULL);
+            }
+        } else if (!node.running) {
             ss_posix_wait(&link, 20);
         } else if (node.paced) {
             ss_posix_wait(&link, 0);
         }
     }
-    ss_posix_close(&link);
+    if (can != &socketcan.can) {
+        ss_posix_close(&link);
+    }
     return 0;
 }

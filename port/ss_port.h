@@ -7,6 +7,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "ss_can.h"
+
 typedef struct {
     void *ctx;
     /* Non-blocking read of up to max bytes: the count read (0 if none), or -1 when the peer is
@@ -17,5 +19,15 @@ typedef struct {
     /* Monotonic microseconds. */
     uint64_t (*time_us)(void *ctx);
 } ss_port_link_t;
+
+/* A CAN link: SocketCAN, a CAN controller, or SLCAN over a byte link (ss_port_slcan.h). */
+typedef struct {
+    void *ctx;
+    /* Non-blocking: 1 with *frame filled, 0 if none, -1 when the peer is gone. */
+    int32_t (*read)(void *ctx, ss_can_frame_t *frame);
+    /* Queue one frame: 1, or -1 on failure. */
+    int32_t (*write)(void *ctx, const ss_can_frame_t *frame);
+    uint64_t (*time_us)(void *ctx);
+} ss_port_can_t;
 
 #endif /* SS_PORT_H */

@@ -171,8 +171,6 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
     from .hil.client import HostNode, NodeClient
     from .hil.session import node_params, play, record, summary
 
-    if a.link == "can":
-        raise CliError("--link can: the CAN (SLCAN) link is not implemented yet; use --link serial")
     w = _waveform(a)
     if a.decimation < 1:
         raise CliError(f"--decimation: must be >= 1, got {a.decimation}")
@@ -180,9 +178,15 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
     url = a.url
     try:
         if url is None:
-            node = HostNode(a.node_link)
+            node = HostNode(("can-" if a.link == "can" else "") + a.node_link)
             url = node.url
-        with NodeClient(url) as c:
+        if a.link == "can":
+            from .hil.can_client import CanNodeClient
+
+            client: Any = CanNodeClient(url, interface=a.can_interface)
+        else:
+            client = NodeClient(url)
+        with client as c:
             run = play(c, w, a.mode, a.decimation, a.paced)
             s = summary(run, c)
             if a.out:
@@ -258,7 +262,14 @@ def build_parser() -> argparse.ArgumentParser:
     _add_waveform_options(hr)
     hr.add_argument("--link", choices=("serial", "can"), default="serial")
     hr.add_argument(
-        "--url", help="node to use: a device path (pty, UART) or socket://127.0.0.1:PORT"
+        "--url",
+        help="node to use: a device path (pty, UART) or socket://127.0.0.1:PORT; with --link can "
+        "the python-can channel (an SLCAN device or URL, or vcan0 with --can-interface socketcan)",
+    )
+    hr.add_argument(
+        "--can-interface",
+        default="slcan",
+        help="python-can interface for --link can (default slcan)",
     )
     hr.add_argument(
         "--node-link",

@@ -110,12 +110,25 @@ static void refuse_second_client(int fd)
     close(fd);
 }
 
+/* Is the current client's connection closed (it may have gone without our noticing yet)? */
+static int client_closed(const ss_posix_link_t *l)
+{
+    uint8_t b;
+    const ssize_t r = recv(l->client_fd, &b, 1, MSG_PEEK | MSG_DONTWAIT);
+    return r == 0 || (r < 0 && errno != EAGAIN && errno != EINTR);
+}
+
 static void accept_pending(ss_posix_link_t *l)
 {
     for (;;) {
         const int fd = accept(l->listen_fd, NULL, NULL);
         if (fd < 0) {
             return;
+        }
+        if (l->client_fd >= 0 && client_closed(l)) {
+            close(l->client_fd); /* the old session is over: tell the node on this read */
+            l->client_fd = -1;
+            l->session_over = 1;
         }
         if (l->client_fd >= 0) {
             refuse_second_client(fd);
@@ -132,6 +145,10 @@ static int32_t tcp_read(void *ctx, uint8_t *buf, size_t max)
 {
     ss_posix_link_t *l = ctx;
     accept_pending(l);
+    if (l->session_over) {
+        l->session_over = 0;
+        return -1;
+    }
     if (l->client_fd < 0) {
         return 0;
     }

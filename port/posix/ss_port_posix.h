@@ -8,12 +8,13 @@
 #include "ss_port.h"
 
 typedef struct {
-    int kind;      /* 0 pty, 1 tcp */
-    int master_fd; /* pty master */
-    int slave_fd;  /* kept open so a client closing the pty does not end it */
-    int listen_fd; /* tcp */
-    int client_fd; /* tcp, -1 when no client */
-    uint16_t port; /* tcp, the bound port */
+    int kind;             /* 0 pty, 1 tcp */
+    int master_fd;        /* pty master */
+    int slave_fd;         /* kept open so a client closing the pty does not end it */
+    int listen_fd;        /* tcp */
+    int client_fd;        /* tcp, -1 when no client */
+    uint16_t port;        /* tcp, the bound port */
+    uint8_t session_over; /* tcp: the last client left; the next read reports it */
     ss_port_link_t link;
 } ss_posix_link_t;
 

@@ -261,5 +261,13 @@ def test_hil_run_command_records_a_dataset(tmp_path, capsys):
     ds = D.load(out)
     r = simulate(ds.runs[0].waveform, ds.actuator)
     assert np.max(np.abs(np.interp(ds.runs[0].t_s, r.t_s, r.x_slider_m) - ds.runs[0].x_m)) < 1e-12
-    assert main(["hil", "run", "--link", "can"]) == 2
-    assert "not implemented yet" in capsys.readouterr().err
+    assert main(["hil", "run", "--link", "serial", "--cycles", "-1"]) == 2
+    assert "--cycles" in capsys.readouterr().err
+
+
+def test_reconnect_at_once_is_served(tcp_node):
+    # a client that closes and a new one that connects before the node has polled: the node must
+    # see the old session is over rather than refuse the new client as a second one
+    for _ in range(5):
+        with NodeClient(tcp_node.url) as c:
+            assert c.get("mu_s") == pytest.approx(0.36)

@@ -286,17 +286,27 @@ def node_binary() -> Path:
 
 
 class HostNode:
-    """Start stickslip_node as a child process; `url` is where to connect."""
+    """Start stickslip_node as a child process; `url` is where to connect: a pty path or
+    socket://127.0.0.1:PORT, carrying the serial protocol (pty, tcp) or SLCAN (can-pty, can-tcp)."""
+
+    ARGS = {
+        "pty": ["--pty"],
+        "tcp": ["--tcp", "0"],
+        "can-pty": ["--can-pty"],
+        "can-tcp": ["--can-tcp", "0"],
+    }
 
     def __init__(self, link: str = "pty"):
-        args = ["--pty"] if link == "pty" else ["--tcp", "0"]
-        self.proc = subprocess.Popen([str(node_binary()), *args], stdout=subprocess.PIPE, text=True)
+        if link not in self.ARGS:
+            raise ValueError(f"link must be one of {sorted(self.ARGS)}, got {link!r}")
+        cmd = [str(node_binary()), *self.ARGS[link]]
+        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True)
         line = self.proc.stdout.readline() if self.proc.stdout else ""
-        m = re.search(r"serial (pty (\S+)|tcp (\S+))", line)
+        m = re.search(r"(?:serial|slcan) (?:pty (\S+)|tcp (\S+))", line)
         if not m:
             self.close()
             raise RuntimeError(f"stickslip_node did not start: {line!r}")
-        self.url = m.group(2) or f"socket://{m.group(3)}"
+        self.url = m.group(1) or f"socket://{m.group(2)}"
 
     def __enter__(self) -> HostNode:
         return self

@@ -34,6 +34,23 @@ ERROR_NAMES = {
 }
 ERROR_CODES = {v: k for k, v in ERROR_NAMES.items()}
 
+# parameter ids of docs/protocol.md (the CAN messages carry ids only)
+PARAM_NAMES = [
+    "piezo_stiffness_n_per_m",
+    "piezo_damping_kg_per_s",
+    "rod_mass_kg",
+    "slider_mass_kg",
+    "piezo_gain_m_per_v",
+    "mu_s",
+    "mu_d",
+    "normal_force_n",
+    "stribeck_velocity_m_per_s",
+    "sigma0_n_per_m",
+    "sigma1_ns_per_m",
+    "sigma2_ns_per_m",
+    "friction_model",
+]
+
 
 def crc16(data: bytes) -> int:
     """CRC-16/CCITT-FALSE: binascii's CRC-CCITT (poly 0x1021, MSB first) from init 0xFFFF."""

@@ -1,0 +1,222 @@
+"""The drive-electronics side over CAN: python-can for the bus (SLCAN on a pty or on
+socket://127.0.0.1:PORT, SocketCAN where the kernel has it), cantools and the project's DBC
+(stickslip.dbc, the single source of truth for ids, signals and scaling) for every frame."""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import can
+import cantools
+import numpy as np
+
+from ..model import Sawtooth
+from . import protocol as P
+from .client import LinkStats, LinkTimeoutError, NodeError, NodeInfo, ParamInfo, Telemetry
+
+DBC_PATH = Path(__file__).with_name("stickslip.dbc")
+CMD = {
+    "HELLO": 1,
+    "GET_PARAM": 2,
+    "SET_PARAM": 3,
+    "RESET": 4,
+    "SET_WAVE": 5,
+    "LOAD_WAVE": 6,
+    "RUN": 7,
+    "STOP": 8,
+}
+DRIVE_CMD = 0x10  # replies about lock-step drive frames
+WAVE_FIELDS = ["frequency_hz", "amplitude_v", "offset_v", "rise_fraction", "direction", "cycles"]
+
+
+def load_dbc() -> cantools.database.can.Database:
+    db = cantools.database.load_file(str(DBC_PATH))
+    if not isinstance(db, cantools.database.can.Database):
+        raise TypeError(f"{DBC_PATH} is not a CAN database")
+    return db
+
+
+class CanNodeClient:
+    """A session with a node over CAN. Same interface as NodeClient (serial)."""
+
+    def __init__(
+        self, channel: str, interface: str = "slcan", timeout_s: float = 2.0, **bus_kwargs
+    ):
+        kw = dict(bus_kwargs)
+        if interface == "slcan":
+            kw.setdefault("sleep_after_open", 0)
+            kw.setdefault("bitrate", 1_000_000)
+        self.url = f"{interface}:{channel}"
+        self.bus = can.Bus(interface=interface, channel=channel, **kw)
+        self.db = load_dbc()
+        self.timeout_s = timeout_s
+        self.seq = 0
+        self.drive_seq = 0
+        self.stats = LinkStats()
+        self.info = self.hello()
+
+    def __enter__(self) -> CanNodeClient:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self.bus.shutdown()
+
+    # ------------------------------------------------------------ frames
+    def send(self, name: str, **signals) -> None:
+        m = self.db.get_message_by_name(name)
+        self.bus.send(
+            can.Message(arbitration_id=m.frame_id, data=m.encode(signals), is_extended_id=False)
+        )
+
+    def recv(self, timeout_s: float) -> tuple[str, dict] | None:
+        msg = self.bus.recv(timeout_s)
+        if msg is None:
+            return None
+        try:
+            m = self.db.get_message_by_frame_id(msg.arbitration_id)
+        except KeyError:
+            return ("", {})  # other traffic
+        signals = m.decode(bytes(msg.data), decode_choices=False)
+        assert isinstance(signals, dict)  # a plain (not multiplexed container) message
+        return m.name, signals
+
+    def request(
+        self,
+        cmd: str,
+        index: int = 0,
+        flags: int = 0,
+        value: float = 0.0,
+        timeout_s: float | None = None,
+        states: list | None = None,
+    ) -> dict:
+        seq = self.seq
+        self.seq = (self.seq + 1) & 0xFF
+        self.send("SS_CMD", cmd=CMD[cmd], seq=seq, index=index, flags=flags, value=value)
+        waited = timeout_s or self.timeout_s
+        deadline = time.monotonic() + waited
+        pending: dict = {}
+        while True:
+            left = deadline - time.monotonic()
+            got = self.recv(max(left, 0.0)) if left > 0 else None
+            if got is None:
+                raise LinkTimeoutError(
+                    f"no SS_REPLY to {cmd} (seq {seq}) within {waited} s: lost on the bus"
+                )
+            name, sig = got
+            if name.startswith("SS_STATE") and states is not None:
+                pending.update(sig)
+                if name == "SS_STATE_C":
+                    states.append(_row(pending))
+                    pending = {}
+            elif name == "SS_REPLY" and sig["seq"] == seq and sig["cmd"] == CMD[cmd]:
+                if sig["status"]:
+                    raise NodeError(sig["status"], CMD[cmd], f"{cmd} index {sig['index']}")
+                return sig
+
+    # ------------------------------------------------------------ requests
+    def hello(self) -> NodeInfo:
+        r = self.request("HELLO")
+        return NodeInfo(
+            1, ("ls", "lugre")[r["index"]], "float32", len(P.PARAM_NAMES), r["value"], "can"
+        )
+
+    def _id(self, param: int | str) -> int:
+        if isinstance(param, int):
+            return param
+        if param not in P.PARAM_NAMES:
+            raise NodeError(
+                P.ERROR_CODES["unknown_param"], CMD["GET_PARAM"], f"no parameter {param!r}"
+            )
+        return P.PARAM_NAMES.index(param)
+
+    def get(self, param: int | str) -> float:
+        return self.request("GET_PARAM", index=self._id(param))["value"]
+
+    def set(self, param: int | str, value: float) -> float:
+        return self.request("SET_PARAM", index=self._id(param), value=value)["value"]
+
+    def params(self) -> dict[str, ParamInfo]:
+        return {
+            n: ParamInfo(i, n, self.get(i), math.nan, math.nan) for i, n in enumerate(P.PARAM_NAMES)
+        }
+
+    def reset(self, drive0_v: float = 0.0) -> None:
+        self.request("RESET", value=drive0_v)
+
+    def load_waveform(self, w: Sawtooth) -> None:
+        for i, f in enumerate(WAVE_FIELDS):
+            self.request("SET_WAVE", index=i, value=float(getattr(w, f)))
+        self.request("LOAD_WAVE")
+
+    def lockstep(self, drive_v: np.ndarray, block: int = 40, decimation: int = 1) -> Telemetry:
+        """One SS_DRIVE frame per step, `block` frames in flight; a state every decimation steps."""
+        rows: list[tuple] = []
+        pending: dict = {}
+        n = len(drive_v)
+        for start in range(0, n, block):
+            end = min(n, start + block)
+            want = len(rows) + sum(1 for i in range(start, end) if (i + 1) % decimation == 0)
+            for i in range(start, end):
+                self.drive_seq = (self.drive_seq + 1) & 0xFF
+                self.send(
+                    "SS_DRIVE",
+                    drive_v=float(drive_v[i]),
+                    seq=self.drive_seq,
+                    report=int((i + 1) % decimation == 0),
+                )
+            deadline = time.monotonic() + self.timeout_s
+            while len(rows) < want:
+                got = self.recv(max(0.0, deadline - time.monotonic()))
+                if got is None:
+                    raise LinkTimeoutError(
+                        f"lock-step: {want - len(rows)} states missing after step {i + 1}"
+                    )
+                name, sig = got
+                if name == "SS_REPLY" and sig["status"]:
+                    raise NodeError(sig["status"], sig["cmd"], f"drive frame seq {sig['seq']}")
+                if name.startswith("SS_STATE"):
+                    pending.update(sig)
+                    if name == "SS_STATE_C":
+                        rows.append(_row(pending))
+                        pending = {}
+        return Telemetry.from_rows(rows)
+
+    def run(
+        self, steps: int, decimation: int = 1, paced: bool = False, timeout_s: float | None = None
+    ) -> Telemetry:
+        if not 1 <= decimation <= 255:
+            raise ValueError(f"decimation over CAN is 1..255, got {decimation}")
+        rows: list[tuple] = []
+        budget = timeout_s or max(
+            self.timeout_s, 5.0 + steps * self.info.dt_s * (1.5 if paced else 0.5)
+        )
+        r = self.request(
+            "RUN",
+            index=decimation,
+            flags=int(paced),
+            value=float(steps),
+            timeout_s=budget,
+            states=rows,
+        )
+        if int(r["value"]) != steps:
+            raise RuntimeError(f"run ended after {int(r['value'])} of {steps} steps")
+        return Telemetry.from_rows(rows)
+
+    def stop(self) -> int:
+        return int(self.request("STOP")["value"])
+
+
+def _row(s: dict) -> tuple:
+    return (
+        s["step"],
+        s["drive_v"],
+        s["x_rod_m"],
+        s["x_slider_hi_m"],
+        s["x_slider_lo_m"],
+        s["friction_n"],
+    )

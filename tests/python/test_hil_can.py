@@ -1,0 +1,129 @@
+"""The node over CAN: python-can's slcan interface against the node's SLCAN link (pty and TCP on
+127.0.0.1), every frame through cantools and the DBC. SocketCAN is tried and skipped where the
+kernel has no vcan."""
+
+import importlib.util
+import shutil
+import socket
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from stickslip.hil.can_client import CanNodeClient
+from stickslip.hil.client import HostNode, NodeError, node_binary
+from stickslip.model import Sawtooth, simulate
+
+VECTORS = Path(__file__).resolve().parents[1] / "vectors"
+
+
+def f32(x):
+    return np.asarray(x, dtype=np.float32)
+
+
+@pytest.fixture(params=["can-tcp", "can-pty"])
+def can_node(request):
+    with HostNode(request.param) as n:
+        yield n
+
+
+def test_c_vectors_are_what_cantools_encodes_from_the_dbc():
+    spec = importlib.util.spec_from_file_location("mk", VECTORS / "make_can_vectors.py")
+    mk = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mk)
+    assert (VECTORS / "can_frames.csv").read_text() == mk.render()
+
+
+def test_lockstep_over_slcan_is_bit_exact(can_node):
+    w = Sawtooth(cycles=1)
+    r = simulate(w)
+    with CanNodeClient(can_node.url) as c:
+        c.reset(float(r.drive_v[0]))
+        tel = c.lockstep(r.drive_v[1:401], decimation=1)
+        assert np.array_equal(tel.step, np.arange(1, 401))
+        assert np.array_equal(f32(tel.x_rod_m), f32(r.x_rod_m[1:401]))
+        assert np.array_equal(f32(tel.friction_n), f32(r.force_n[1:401]))
+        assert np.max(np.abs(tel.x_slider_m - r.x_slider_m[1:401])) < 1e-12
+
+
+def test_free_run_over_slcan(can_node):
+    w = Sawtooth(cycles=1)
+    r = simulate(w)
+    with CanNodeClient(can_node.url) as c:
+        c.load_waveform(w)
+        tel = c.run(2000, decimation=20)
+        assert np.array_equal(tel.step, np.arange(20, 2001, 20))
+        assert np.array_equal(f32(tel.x_rod_m), f32(r.x_rod_m[20::20]))
+
+
+def test_parameters_and_refusals_over_can():
+    with HostNode("can-tcp") as n, CanNodeClient(n.url) as c:
+        assert c.get("mu_s") == pytest.approx(0.36)
+        assert c.set("normal_force_n", 12.0) == 12.0
+        for param, value, name in [
+            ("rod_mass_kg", -1.0, "out_of_range"),
+            ("sigma0_n_per_m", float("nan"), "non_finite"),
+            ("mu_d", 0.9, "out_of_range"),
+            (40, 1.0, "unknown_param"),
+        ]:
+            with pytest.raises(NodeError) as e:
+                c.set(param, value)
+            assert e.value.name == name
+        assert c.get("rod_mass_kg") == pytest.approx(1.1e-3)
+        with pytest.raises(NodeError, match="no_waveform"):
+            c.run(10)
+        with pytest.raises(NodeError, match="out_of_range"):
+            c.request("SET_WAVE", index=4, value=0.5)  # direction must be +-1
+
+
+def test_duplicate_drive_frame_is_not_executed():
+    with HostNode("can-tcp") as n, CanNodeClient(n.url) as c:
+        c.reset(0.0)
+        c.send("SS_DRIVE", drive_v=1.0, seq=50, report=0)
+        c.send("SS_DRIVE", drive_v=1.0, seq=50, report=0)  # delivered twice
+        got = c.recv(2.0)
+        while got is not None and got[0] != "SS_REPLY":
+            got = c.recv(2.0)
+        assert got is not None and got[1]["status"] == 7  # duplicate
+        c.drive_seq = 50
+        tel = c.lockstep(np.array([1.0]), decimation=1)
+        assert tel.step[0] == 2  # one step for the first frame, one now
+
+
+def test_malformed_slcan_lines_are_answered_with_bel():
+    with HostNode("can-tcp") as n:
+        host, port = n.url.removeprefix("socket://").split(":")
+        s = socket.create_connection((host, int(port)), timeout=2)
+        s.sendall(b"O\rt11G1aa\rt1109\rQ\r")
+        data = b""
+        while data.count(b"\a") < 3:
+            data += s.recv(64)
+        assert data == b"\r\a\a\a"
+        s.close()
+        with CanNodeClient(n.url) as c:  # and the node serves the next client
+            assert c.get("mu_d") == pytest.approx(0.30)
+
+
+def test_socketcan_where_the_kernel_has_vcan():
+    if not sys.platform.startswith("linux") or shutil.which("ip") is None:
+        pytest.skip("SocketCAN needs Linux and iproute2")
+    made = subprocess.run(
+        ["ip", "link", "add", "dev", "vcan0", "type", "vcan"], capture_output=True, text=True
+    )
+    if made.returncode != 0 and "File exists" not in made.stderr:
+        pytest.skip(f"no vcan on this kernel, the SLCAN link stands in: {made.stderr.strip()}")
+    subprocess.run(["ip", "link", "set", "up", "vcan0"], check=True)
+    node = subprocess.Popen(
+        [str(node_binary()), "--socketcan", "vcan0"],
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert "socketcan vcan0" in node.stdout.readline()
+        with CanNodeClient("vcan0", interface="socketcan") as c:
+            assert c.get("mu_s") == pytest.approx(0.36)
+    finally:
+        node.terminate()
+        subprocess.run(["ip", "link", "del", "vcan0"], capture_output=True)
