@@ -205,6 +205,41 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_hil_position(a: argparse.Namespace) -> int:
+    from .hil.client import HostNode, NodeClient
+    from .hil.positioning import position
+
+    if not math.isfinite(a.target_m) or abs(a.target_m) > 0.025:
+        raise CliError(f"--target-m: must be within +-25 mm, got {a.target_m}")
+    if not a.tolerance_m > 0:
+        raise CliError(f"--tolerance-m: must be > 0, got {a.tolerance_m}")
+    node = None
+    url = a.url
+    try:
+        if url is None:
+            node = HostNode("tcp")
+            url = node.url
+        with NodeClient(url) as c:
+            r = position(c, a.target_m, a.tolerance_m, max_time_s=a.max_time_s)
+    finally:
+        if node is not None:
+            node.close()
+    s = r.summary()
+    if a.json:
+        print(json.dumps(s, indent=2))
+    else:
+        settle = (
+            "not settled"
+            if r.settle_time_s is None
+            else f"settled in {r.settle_time_s * 1e3:.1f} ms"
+        )
+        print(
+            f"target {a.target_m * 1e6:.3f} um: {r.coarse_periods} coarse periods, {settle} "
+            f"(model time), final error {r.final_error_m * 1e9:.2f} nm"
+        )
+    return 0 if r.settle_time_s is not None else 1
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="stickslip", description="Simulate, test and identify stick-slip piezo actuators."
@@ -288,6 +323,25 @@ def build_parser() -> argparse.ArgumentParser:
     hr.add_argument("--out", help="write the run as a stick-slip-dataset/1 folder")
     hr.add_argument("--json", action="store_true", help="print a JSON summary")
     hr.set_defaults(func=cmd_hil_run)
+    hp = hs.add_parser(
+        "position",
+        help="closed-loop positioning to a target through a node",
+        description="Coarse stick-slip steps toward the target, then fine positioning "
+        "within one piezo stroke, on the slider-position feedback (lock-step).",
+    )
+    hp.add_argument(
+        "--target-m",
+        type=_finite("--target-m"),
+        required=True,
+        help="target, relative to the start (m)",
+    )
+    hp.add_argument("--tolerance-m", type=_finite("--tolerance-m"), default=5e-9)
+    hp.add_argument(
+        "--max-time-s", type=_finite("--max-time-s"), default=0.2, help="model time limit"
+    )
+    hp.add_argument("--url", help="serial node to use (default: start one)")
+    hp.add_argument("--json", action="store_true")
+    hp.set_defaults(func=cmd_hil_position)
     return p
 
 

@@ -271,3 +271,26 @@ def test_reconnect_at_once_is_served(tcp_node):
     for _ in range(5):
         with NodeClient(tcp_node.url) as c:
             assert c.get("mu_s") == pytest.approx(0.36)
+
+
+@pytest.mark.parametrize("target", [30e-6, -12.3e-6, 2e-6])
+def test_closed_loop_positioning_reaches_target(tcp_node, target):
+    from stickslip.hil.positioning import position
+
+    with NodeClient(tcp_node.url) as c:
+        r = position(c, target, tolerance_m=5e-9, max_time_s=0.1)
+    # coarse periods of ~2.3 um, then the fine loop: within 5 nm, held for 2 ms, in < 100 ms
+    assert r.settle_time_s is not None and r.settle_time_s < 0.1
+    assert abs(r.final_error_m) <= 5e-9
+    assert r.coarse_periods == (
+        0 if abs(target) < 4.4e-6 else pytest.approx(abs(target) / 2.3e-6, abs=3)
+    )
+
+
+def test_position_command(capsys):
+    assert main(["hil", "position", "--target-m", "5e-6", "--json"]) == 0
+    import json
+
+    s = json.loads(capsys.readouterr().out)
+    assert abs(s["final_error_m"]) <= 5e-9
+    assert main(["hil", "position", "--target-m", "1"]) == 2
