@@ -58,7 +58,7 @@ static ss_slcan_event_t parse_line(const char *l, size_t n, ss_can_frame_t *f, c
         f->rtr = (uint8_t)rtr;
         for (uint32_t i = 0; i < 8u; ++i) {
             uint32_t b = 0;
-            if (!rtr && i < dlc && !parse_hex(&l[2u + id_len + 2u * i], 2, &b)) {
+            if (!rtr && i < dlc && !parse_hex(&l[2u + id_len + (size_t)2u * i], 2, &b)) {
                 return SS_SLCAN_BAD;
             }
             f->data[i] = (uint8_t)((!rtr && i < dlc) ? b : 0u);
@@ -104,7 +104,8 @@ size_t ss_slcan_format(const ss_can_frame_t *f, char *out, size_t cap)
         return 0;
     }
     size_t k = 0;
-    out[k++] = f->rtr ? (f->ext ? 'R' : 'r') : (f->ext ? 'T' : 't');
+    static const char kinds[2][2] = {{'t', 'T'}, {'r', 'R'}}; /* [rtr][ext] */
+    out[k++] = kinds[f->rtr ? 1 : 0][f->ext ? 1 : 0];
     for (size_t i = 0; i < id_len; ++i) {
         out[k++] = hx[(f->id >> (4u * (id_len - 1u - i))) & 0xFu];
     }
