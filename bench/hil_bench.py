@@ -67,7 +67,7 @@ def can_slcan() -> None:
         lock = 2000 / (time.perf_counter() - t0)
         c.load_waveform(Sawtooth(cycles=10))
         t0 = time.perf_counter()
-        tel = c.run(10_000, decimation=1)
+        tel = c.run(4000, decimation=1)
         wall = time.perf_counter() - t0
         fps = 3 * len(tel.step) / wall
         bus = CAN_BPS / CAN_FRAME_BITS

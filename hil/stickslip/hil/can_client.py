@@ -192,9 +192,10 @@ class CanNodeClient:
         if not 1 <= decimation <= 255:
             raise ValueError(f"decimation over CAN is 1..255, got {decimation}")
         rows: list[tuple] = []
-        budget = timeout_s or max(
-            self.timeout_s, 5.0 + steps * self.info.dt_s * (1.5 if paced else 0.5)
-        )
+        # model time when paced, plus the reading: python-can's slcan parses ~1 frame per 0.5 ms
+        frames = 3 * (steps // decimation)
+        paced_s = steps * self.info.dt_s * 1.5 if paced else 0.0
+        budget = timeout_s or max(self.timeout_s, 5.0 + paced_s + frames * 1e-3)
         r = self.request(
             "RUN",
             index=decimation,
