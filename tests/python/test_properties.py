@@ -4,7 +4,7 @@ parameters inside the documented ranges (ss_friction.h, ss_actuator.h), random p
 import math
 
 import numpy as np
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from stickslip import _native as N
@@ -109,6 +109,7 @@ def test_init_rejects_every_out_of_range_parameter(name, outside):
 
 
 @settings(max_examples=15, deadline=None)
+@example(f_hz=2160.0, amp=112.0, rise=0.96875, direction=-1, model="lugre")  # found by hypothesis
 @given(
     f_hz=st.floats(50, 3000),
     amp=st.floats(-150, 150),
@@ -120,5 +121,9 @@ def test_actuator_runs_stay_finite(f_hz, amp, rise, direction, model):
     r = simulate(Sawtooth(f_hz, amp, 0.0, rise, direction, 3), model=model)
     for col in (r.x_rod_m, r.x_slider_m, r.force_n, r.state_a):
         assert np.all(np.isfinite(col))
-    # friction never exceeds its static level by more than the damping can add
-    assert np.max(np.abs(r.force_n)) < 3.0 * 3.6
+    # friction never exceeds its static level by more than the damping terms can add at the
+    # relative velocity of the moment (LuGre's sigma1 dz/dt reaches several Fs on fast edges)
+    p = ActuatorParams.table1()
+    v_rel = np.abs(r.v_rod_m_per_s - r.v_slider_m_per_s)
+    bound = p.fs_n + (p.sigma1_ns_per_m * (1 + p.fs_n / p.fc_n) + p.sigma2_ns_per_m) * v_rel
+    assert np.all(np.abs(r.force_n) <= bound * (1 + 1e-4) + 1e-4)
