@@ -275,6 +275,161 @@ static void test_garbage_unknown_and_disconnect(void **unused)
     assert_int_equal(request(SS_MSG_HELLO, NULL, 0)->type, SS_MSG_HELLO | SS_MSG_REPLY);
 }
 
+/* ---------------------------------------------------------------- the CAN front end */
+
+static ss_can_frame_t can_in[64], can_out[512];
+static size_t can_in_n, can_in_at, can_out_n;
+static int can_gone;
+
+static int32_t can_read(void *ctx, ss_can_frame_t *f)
+{
+    (void)ctx;
+    if (can_gone) {
+        can_gone = 0;
+        return -1;
+    }
+    if (can_in_at == can_in_n) {
+        return 0;
+    }
+    *f = can_in[can_in_at++];
+    return 1;
+}
+
+static int32_t can_write(void *ctx, const ss_can_frame_t *f)
+{
+    (void)ctx;
+    if (can_out_n < sizeof can_out / sizeof can_out[0]) {
+        can_out[can_out_n++] = *f;
+    }
+    return 1;
+}
+
+static ss_port_can_t can_port = {&fk, can_read, can_write, fake_time};
+
+static int setup_can(void **unused)
+{
+    (void)unused;
+    memset(&fk, 0, sizeof fk);
+    can_in_n = can_in_at = can_out_n = 0;
+    can_gone = 0;
+    memset(&node, 0, sizeof node);
+    ss_node_init_can(&node, &can_port);
+    return 0;
+}
+
+static ss_can_reply_t can_cmd(uint8_t cmd, uint8_t seq, uint8_t index, uint8_t flags, float value)
+{
+    const ss_can_cmd_t c = {cmd, seq, index, flags, value};
+    ss_can_pack_cmd(&c, &can_in[can_in_n++]);
+    can_out_n = 0;
+    ss_node_poll_can(&node);
+    ss_can_reply_t r;
+    memset(&r, 0, sizeof r);
+    for (size_t i = 0; i < can_out_n; ++i) {
+        (void)ss_can_unpack_reply(&can_out[i], &r);
+    }
+    return r;
+}
+
+static void test_can_commands(void **unused)
+{
+    (void)unused;
+    ss_can_reply_t r = can_cmd(SS_CAN_CMD_HELLO, 0, 0, 0, 0.0f);
+    assert_int_equal(r.cmd, SS_CAN_CMD_HELLO);
+    assert_true(r.value == 1e-6f);
+    r = can_cmd(SS_CAN_CMD_GET_PARAM, 1, 5, 0, 0.0f);
+    assert_true(r.status == 0 && r.value == 0.36f);
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_PARAM, 2, 2, 0, -1.0f).status, SS_PERR_OUT_OF_RANGE);
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_PARAM, 3, 9, 0, NAN).status, SS_PERR_NON_FINITE);
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_PARAM, 4, 77, 0, 1.0f).status, SS_PERR_UNKNOWN_PARAM);
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_PARAM, 4, 7, 0, 12.0f).status,
+                     SS_PERR_DUPLICATE); /* seq 4 again */
+    r = can_cmd(SS_CAN_CMD_SET_PARAM, 5, 7, 0, 12.0f);
+    assert_true(r.status == 0 && r.value == 12.0f);
+    assert_int_equal(can_cmd(SS_CAN_CMD_RESET, 6, 0, 0, INFINITY).status, SS_PERR_NON_FINITE);
+    assert_int_equal(can_cmd(SS_CAN_CMD_RESET, 7, 0, 0, 2e5f).status, SS_PERR_OUT_OF_RANGE);
+    assert_int_equal(can_cmd(SS_CAN_CMD_RESET, 8, 0, 0, 1.0f).status, 0);
+    assert_int_equal(can_cmd(SS_CAN_CMD_RUN, 9, 1, 0, 100.0f).status, SS_PERR_NO_WAVEFORM);
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_WAVE, 10, 4, 0, 0.5f).status, SS_PERR_OUT_OF_RANGE);
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_WAVE, 11, 5, 0, 2.5f).status, SS_PERR_OUT_OF_RANGE);
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_WAVE, 12, 9, 0, 1.0f).status, SS_PERR_OUT_OF_RANGE);
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_WAVE, 13, 0, 0, NAN).status, SS_PERR_NON_FINITE);
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_WAVE, 14, 3, 0, 1.5f).status, 0); /* checked at LOAD */
+    assert_int_equal(can_cmd(SS_CAN_CMD_LOAD_WAVE, 15, 0, 0, 0.0f).status, SS_PERR_OUT_OF_RANGE);
+    const float fields[6] = {500.0f, 100.0f, 0.0f, 0.95f, -1.0f, 2.0f};
+    for (uint8_t i = 0; i < 6; ++i) {
+        assert_int_equal(can_cmd(SS_CAN_CMD_SET_WAVE, (uint8_t)(16 + i), i, 0, fields[i]).status, 0);
+    }
+    assert_int_equal(can_cmd(SS_CAN_CMD_LOAD_WAVE, 22, 0, 0, 0.0f).status, 0);
+    assert_int_equal(can_cmd(SS_CAN_CMD_RUN, 23, 0, 0, 100.0f).status,
+                     SS_PERR_OUT_OF_RANGE); /* decimation 0 */
+    assert_int_equal(can_cmd(SS_CAN_CMD_RUN, 24, 1, 0, 10.5f).status, SS_PERR_OUT_OF_RANGE);
+    assert_int_equal(can_cmd(0x55, 25, 0, 0, 0.0f).status, SS_PERR_UNKNOWN_TYPE);
+    /* an unpaced run of 100 steps at decimation 10: 10 states of 3 frames, then the RUN reply */
+    r = can_cmd(SS_CAN_CMD_RUN, 26, 10, 0, 100.0f);
+    assert_int_equal(can_out_n, 31);
+    assert_int_equal(can_out[0].id, SS_CAN_ID_STATE_A);
+    assert_true(r.cmd == SS_CAN_CMD_RUN && r.value == 100.0f);
+    assert_true(ss_get_u32(can_out[27].data) == 100u);
+    /* STOP when idle, and a zero-step run answered at once */
+    assert_int_equal(can_cmd(SS_CAN_CMD_STOP, 27, 0, 0, 0.0f).status, 0);
+    r = can_cmd(SS_CAN_CMD_RUN, 28, 1, 0, 0.0f);
+    assert_true(r.cmd == SS_CAN_CMD_RUN && r.value == 0.0f);
+}
+
+static void test_can_lockstep_busy_and_traffic(void **unused)
+{
+    (void)unused;
+    ss_actuator_config_f32_t cfg = ss_actuator_config_table1_f32();
+    ss_actuator_state_f32_t ref;
+    memset(&ref, 0, sizeof ref);
+    ss_actuator_init_f32(&cfg, &ref, 0.0f);
+    for (uint8_t i = 1; i <= 20; ++i) {
+        const ss_can_drive_t d = {2.0f * (float)i, i, (uint8_t)(i == 20)};
+        ss_can_pack_drive(&d, &can_in[can_in_n++]);
+        ss_actuator_step_f32(&cfg, &ref, d.drive_v);
+    }
+    const ss_can_frame_t other = {0x7FF, 2, 0, 0, {1, 2}}; /* someone else's frame on the bus */
+    can_in[can_in_n++] = other;
+    can_out_n = 0;
+    ss_node_poll_can(&node);
+    assert_int_equal(can_out_n, 3); /* one reported state */
+    assert_int_equal(ss_get_u32(can_out[0].data), 20);
+    assert_true(ss_get_f32(can_out[1].data) == ref.x_rod_m);
+    assert_true(ss_get_f32(&can_out[2].data[0]) == ref.x_slider.hi_m);
+    /* the last drive frame again: refused, not stepped */
+    const ss_can_drive_t again = {40.0f, 20, 1};
+    ss_can_pack_drive(&again, &can_in[can_in_n++]);
+    const ss_can_drive_t bad = {NAN, 21, 1};
+    ss_can_pack_drive(&bad, &can_in[can_in_n++]);
+    can_out_n = 0;
+    ss_node_poll_can(&node);
+    ss_can_reply_t r;
+    assert_true(ss_can_unpack_reply(&can_out[0], &r) && r.status == SS_PERR_DUPLICATE);
+    assert_true(ss_can_unpack_reply(&can_out[1], &r) && r.status == SS_PERR_NON_FINITE);
+    assert_int_equal(node.st.steps, 20);
+    /* during a paced run: drive frames and commands are busy; HELLO stops the run */
+    can_cmd(SS_CAN_CMD_SET_WAVE, 40, 0, 0, 500.0f);
+    can_cmd(SS_CAN_CMD_LOAD_WAVE, 41, 0, 0, 0.0f);
+    can_cmd(SS_CAN_CMD_RUN, 42, 1, 1, 1e6f);
+    assert_int_equal(node.running, 1);
+    const ss_can_drive_t during = {1.0f, 22, 0};
+    ss_can_pack_drive(&during, &can_in[can_in_n++]);
+    can_out_n = 0;
+    ss_node_poll_can(&node);
+    assert_true(ss_can_unpack_reply(&can_out[can_out_n - 1], &r) && r.status == SS_PERR_BUSY);
+    assert_int_equal(can_cmd(SS_CAN_CMD_RESET, 43, 0, 0, 0.0f).status, SS_PERR_BUSY);
+    fk.now_us += 500;
+    ss_node_poll_can(&node);
+    assert_true(node.run_done > 0);
+    r = can_cmd(SS_CAN_CMD_STOP, 44, 0, 0, 0.0f);
+    assert_true(r.cmd == SS_CAN_CMD_STOP && r.value > 0.0f);
+    /* the bus peer goes away: the session is forgotten, the node serves on */
+    can_gone = 1;
+    assert_int_equal(ss_node_poll_can(&node), -1);
+    assert_int_equal(can_cmd(SS_CAN_CMD_HELLO, 0, 0, 0, 0.0f).cmd, SS_CAN_CMD_HELLO);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -283,6 +438,8 @@ int main(void)
         cmocka_unit_test_setup(test_drive_block_lockstep_and_duplicate, setup),
         cmocka_unit_test_setup(test_free_run_paced_busy_stop, setup),
         cmocka_unit_test_setup(test_garbage_unknown_and_disconnect, setup),
+        cmocka_unit_test_setup(test_can_commands, setup_can),
+        cmocka_unit_test_setup(test_can_lockstep_busy_and_traffic, setup_can),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
