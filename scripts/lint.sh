@@ -5,15 +5,21 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 C_FILES=$(git ls-files 'lib/*.c' 'lib/*.h' 'app/*.c' 'app/*.h' 'host_sim/*.c' 'port/*.c' 'port/*.h' 'tests/c/*.c' \
   'tests/c/*.h' 'bench/*.c')
-C_SOURCES=$(git ls-files 'lib/src/*.c' 'app/*.c' 'host_sim/*.c' 'port/*.c')
+C_SOURCES=$(git ls-files 'lib/src/*.c' 'app/*.c' 'host_sim/*.c' 'port/*.c' | grep -v '^port/cortex_m/')
+FW_SOURCES=$(git ls-files 'port/cortex_m/*.c')
 
 echo "lint: clang-format"
 clang-format --dry-run --Werror $C_FILES
 echo "lint: cppcheck"
 cppcheck --enable=warning,style,performance,portability --std=c99 --inline-suppr --error-exitcode=1 -q \
-  -I lib/include -I app -I port -I port/posix $C_SOURCES
+  -I lib/include -I app -I port -I port/posix $C_SOURCES $FW_SOURCES
 echo "lint: clang-tidy"
 clang-tidy -p build/host --quiet $C_SOURCES 2>/dev/null
+if [ -f build/cortex-m4f/compile_commands.json ]; then
+  echo "lint: clang-tidy (Cortex-M4F firmware)"
+  clang-tidy -p build/cortex-m4f --quiet --extra-arg=--target=arm-none-eabi \
+    --extra-arg=-isystem/usr/lib/arm-none-eabi/include $FW_SOURCES 2>/dev/null
+fi
 echo "lint: ruff"
 .venv/bin/ruff check hil tests bench
 .venv/bin/ruff format --check hil tests bench

@@ -2,13 +2,14 @@
 # Set up a fresh Debian machine for stickslip: system packages, the Python virtual environment
 # at .venv (with the `stickslip` command and the C library built into it), and the host build.
 # Idempotent: re-running only does what is missing.
-#   --dev   also the analysers the tests run (clang-format, clang-tidy, cppcheck, gcovr)
+#   --dev   also what the tests need beyond the demo: the analysers (clang-format, clang-tidy,
+#           cppcheck), and the Cortex-M cross toolchain and QEMU for the firmware tests
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 APT_PACKAGES=(cmake ninja-build gcc libc6-dev libcmocka-dev pkg-config)
 if [ "${1:-}" = "--dev" ]; then
-  APT_PACKAGES+=(clang-format clang-tidy cppcheck gcovr)
+  APT_PACKAGES+=(clang-format clang-tidy cppcheck gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm)
 fi
 if ! python3 -c 'import venv, ensurepip' >/dev/null 2>&1; then
   APT_PACKAGES+=(python3 python3-venv)
@@ -39,3 +40,10 @@ echo "setup: installing the stickslip package into .venv"
 echo "setup: building the C library, host simulator and C tests (build/host)"
 cmake --preset host >/dev/null
 cmake --build --preset host
+if [ "${1:-}" = "--dev" ]; then
+  echo "setup: building the firmware (build/cortex-m4f, build/cortex-m3)"
+  for preset in cortex-m4f cortex-m3; do
+    cmake --preset "$preset" >/dev/null
+    cmake --build --preset "$preset"
+  done
+fi

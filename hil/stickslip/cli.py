@@ -174,11 +174,18 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
     w = _waveform(a)
     if a.decimation < 1:
         raise CliError(f"--decimation: must be >= 1, got {a.decimation}")
-    node = None
+    node: HostNode | None = None
     url = a.url
     try:
         if url is None:
-            node = HostNode(("can-" if a.link == "can" else "") + a.node_link)
+            if a.node_link.startswith("qemu-"):
+                if a.link == "can":
+                    raise CliError("the firmware serves the serial link only; use --link serial")
+                from .hil.client import QemuNode
+
+                node = QemuNode(a.node_link)
+            else:
+                node = HostNode(("can-" if a.link == "can" else "") + a.node_link)
             url = node.url
         if a.link == "can":
             from .hil.can_client import CanNodeClient
@@ -308,9 +315,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     hr.add_argument(
         "--node-link",
-        choices=("pty", "tcp"),
+        choices=("pty", "tcp", "qemu-m4f", "qemu-m3"),
         default="pty",
-        help="how to reach the node started here (default pty)",
+        help="the node started here: the host node on a pty or TCP (default pty), or the firmware "
+        "in QEMU (Cortex-M4F on mps2-an386, Cortex-M3 on mps2-an385; serial only)",
     )
     hr.add_argument(
         "--mode",

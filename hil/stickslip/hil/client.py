@@ -7,6 +7,7 @@ import io
 import os
 import re
 import select
+import socket
 import struct
 import subprocess
 import time
@@ -324,3 +325,70 @@ class HostNode:
                 self.proc.wait(5)
             except subprocess.TimeoutExpired:
                 self.proc.kill()
+
+
+QEMU_TARGETS = {"qemu-m4f": ("mps2-an386", "cortex-m4f"), "qemu-m3": ("mps2-an385", "cortex-m3")}
+
+
+def firmware_elf(preset: str) -> Path:
+    """The firmware image of a CMake preset (cortex-m4f, cortex-m3): under $STICKSLIP_FIRMWARE_ROOT,
+    the current directory (a checkout) or the checkout this module runs from."""
+    roots = [
+        os.environ.get("STICKSLIP_FIRMWARE_ROOT"),
+        Path.cwd(),
+        Path(__file__).resolve().parents[3],
+    ]
+    for root in roots:
+        if root is None:
+            continue
+        elf = Path(root) / "build" / preset / "port" / "cortex_m" / "stickslip_fw.elf"
+        if elf.is_file():
+            return elf
+    raise FileNotFoundError(
+        f"build/{preset}/port/cortex_m/stickslip_fw.elf not found (run from the checkout, or set "
+        f"STICKSLIP_FIRMWARE_ROOT): build it with cmake --preset {preset} && "
+        f"cmake --build --preset {preset}"
+    )
+
+
+class QemuNode(HostNode):
+    """The firmware node on an emulated MPS2 board (qemu-system-arm), its UART on TCP loopback."""
+
+    def __init__(self, target: str = "qemu-m4f"):
+        if target not in QEMU_TARGETS:
+            raise ValueError(f"target must be one of {sorted(QEMU_TARGETS)}, got {target!r}")
+        board, preset = QEMU_TARGETS[target]
+        elf = firmware_elf(preset)
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+        cmd = [
+            "qemu-system-arm",
+            "-M",
+            board,
+            "-nographic",
+            "-monitor",
+            "none",
+            "-kernel",
+            str(elf),
+            "-serial",
+            f"tcp:127.0.0.1:{port},server=on,wait=on,nodelay=on",
+            "-semihosting-config",
+            "enable=on,target=native",
+        ]
+        self.proc = subprocess.Popen(
+            cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+        )
+        self.url = f"socket://127.0.0.1:{port}"
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline:  # until QEMU listens (it waits for us before it runs)
+            if self.proc.poll() is not None:
+                raise RuntimeError(
+                    f"qemu-system-arm exited: {self.proc.stderr.read() if self.proc.stderr else ''}"
+                )
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=0.2).close()
+                break
+            except OSError:
+                time.sleep(0.05)
+        # that probe connection was QEMU's first client; it takes the next one after it closed

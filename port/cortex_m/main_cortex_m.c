@@ -1,0 +1,18 @@
+/* Firmware: the stage-model node (app/ss_node.c, the same application as the host's
+ * stickslip_node) on the Cortex-M port. */
+#include "ss_node.h"
+#include "ss_port_cortex_m.h"
+
+static ss_node_t node; /* the firmware's one instance, in .bss */
+
+int main(void)
+{
+    const ss_port_link_t *link = ss_cortex_m_init();
+    ss_node_init(&node, link);
+    /* a banner for people, ended by a frame delimiter so a framing receiver drops it */
+    const char hello[] = "stickslip firmware " SS_NODE_VERSION "\n";
+    (void)link->write(link->ctx, (const uint8_t *)hello, sizeof hello); /* with its NUL */
+    for (;;) {
+        (void)ss_node_poll(&node);
+    }
+}
