@@ -62,12 +62,18 @@ ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg, co
 
 float ss_stribeck_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s)
 {
+    if (v_m_per_s == 0.0f) {
+        return cfg->fc_n + (cfg->fs_n - cfg->fc_n); /* exp(0) = 1: the same sum, no expf (sticking) */
+    }
     const float r = v_m_per_s / cfg->vs_m_per_s;
     return cfg->fc_n + (cfg->fs_n - cfg->fc_n) * expf(-r * r);
 }
 
 float ss_stribeck_slope_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s)
 {
+    if (v_m_per_s == 0.0f) {
+        return 0.0f;
+    }
     const float r = v_m_per_s / cfg->vs_m_per_s;
     return -2.0f * (cfg->fs_n - cfg->fc_n) * r / cfg->vs_m_per_s * expf(-r * r);
 }

@@ -133,7 +133,9 @@ float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st,
     /* LuGre in the slip: the break-away level s relaxes to g(v_slip) over the distance g/sigma0,
      * exact for a slip velocity frozen over the step. */
     const float g = ss_stribeck_f32(cfg, slip / dt_s);
-    st->level_n = g + (st->level_n - g) * expf(-cfg->sigma0_n_per_m * fabsf(slip) / g);
+    /* no gross slip (presliding, sticking): exp(0) = 1, the same arithmetic without expf */
+    const float decay = (slip == 0.0f) ? 1.0f : expf(-cfg->sigma0_n_per_m * fabsf(slip) / g);
+    st->level_n = g + (st->level_n - g) * decay;
     st->force_n = ss_ls_force_at_f32(cfg, st, dx_m / dt_s, NULL);
     return st->force_n;
 }
