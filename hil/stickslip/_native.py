@@ -13,11 +13,7 @@ import numpy as np
 _HERE = Path(__file__).resolve().parent
 
 
-class Status(int):
-    """Status codes of ss_status.h."""
-
-
-SS_OK = 0
+SS_OK = 0  # ss_status.h
 SS_FRICTION_LS = 0
 SS_FRICTION_LUGRE = 1
 SS_WAVE_SAWTOOTH = 0

@@ -229,7 +229,7 @@ class SimResult:
         )
 
 
-def _run_native(cfg, wave_cfg, n_steps: int, decimation: int, keep=None) -> dict[str, np.ndarray]:
+def _run_native(cfg, wave_cfg, n_steps: int, decimation: int) -> dict[str, np.ndarray]:
     rows = n_steps // decimation
     cols = {name: np.zeros(rows + 1, np.float32) for name in N.TRACE_COLUMNS if name != "step"}
     cols["step"] = np.zeros(rows + 1, np.uint32)

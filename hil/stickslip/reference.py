@@ -200,7 +200,7 @@ def simulate_reference(
             if sol.status == 1:  # an event ended the segment
                 if sol.t_events[0].size:
                     # relative velocity reached zero: reverse if it is about to change sign
-                    y[1] = y[3] + 0.0
+                    y[1] = y[3]  # the event's root: relative velocity exactly zero
                     acc = np.array(rhs(t, y, d, seg))
                     if np.sign(acc[1] - acc[3]) == -d:
                         if model == "ls":
