@@ -1,0 +1,20 @@
+/* Fixed-point kernels for the _q family (issue 3, in progress): integer arithmetic only, 32-bit
+ * values with 64-bit intermediates, saturation instead of wrap-around. Q formats are named in
+ * each signature; docs/fixed-point.md will tabulate the model's signals. */
+#ifndef SS_FIXED_H
+#define SS_FIXED_H
+
+#include <stdint.h>
+
+#define SS_Q16_ONE (1 << 16)          /* 1.0 in Q16.16 */
+#define SS_Q30_ONE ((int32_t)1 << 30) /* 1.0 in Q1.30 */
+
+/* Clamp a 64-bit value into int32 (saturation, never wrap). */
+int32_t ss_sat32(int64_t v);
+
+/* exp(-x) for x >= 0 given in Q16.16 (x < 32768), as Q1.30 in [0, 2^30]. exp(0) is exactly
+ * 2^30; results are non-increasing in x; the absolute error is below 2^-26 (tests/c/test_fixed.c
+ * checks every x on a 2^-12 grid against double precision). Negative x saturates to 1.0. */
+int32_t ss_exp_neg_q16_q30(int32_t x_q16);
+
+#endif /* SS_FIXED_H */

@@ -1,0 +1,50 @@
+#include "ss_fixed.h"
+
+/* v / 2^s rounded toward minus infinity, as an arithmetic shift would, without shifting a
+ * negative value (implementation-defined in C99): bit-exact on every target. */
+static int64_t shr_floor(int64_t v, int s)
+{
+    if (v >= 0) {
+        return v >> s;
+    }
+    return -((-v + (((int64_t)1 << s) - 1)) >> s);
+}
+
+int32_t ss_sat32(int64_t v)
+{
+    if (v > INT32_MAX) {
+        return INT32_MAX;
+    }
+    if (v < INT32_MIN) {
+        return INT32_MIN;
+    }
+    return (int32_t)v;
+}
+
+/* exp(-x) = 2^-(x log2 e) = 2^-k * 2^-f with k whole and f in [0, 1); 2^-f = 2^-1/2 * e^(-u ln2)
+ * with u = f - 1/2 in [-1/2, 1/2), |u ln2| <= 0.347: a Taylor polynomial of degree 7 there has a
+ * remainder below 0.347^8 / 8! = 5.6e-9 (2^-27.4). All in Q30 with 64-bit products. */
+int32_t ss_exp_neg_q16_q30(int32_t x_q16)
+{
+    if (x_q16 <= 0) {
+        return SS_Q30_ONE;
+    }
+    /* y = x * log2(e) with 46 fraction bits (Q16 x Q30), so the fraction keeps 30 of them */
+    const int64_t y = (int64_t)x_q16 * 1549082005LL; /* log2(e) in Q30; < 2^62 for x < 2^31 */
+    const int64_t k = y >> 46;
+    if (k >= 31) {
+        return 0; /* below 2^-31: zero in Q30 */
+    }
+    const int64_t f_q30 = (y >> 16) & (SS_Q30_ONE - 1);
+    /* w = -u ln2 in Q30, u = f - 1/2; ln2 in Q30 = 744261118 */
+    const int64_t u_q30 = f_q30 - ((int64_t)1 << 29);
+    const int64_t w = -shr_floor(u_q30 * 744261118LL, 30);
+    /* e^w by Horner: 1 + w(1 + w/2(1 + w/3(1 + ... w/7))) */
+    int64_t p = SS_Q30_ONE;
+    for (int n = 7; n >= 1; --n) {
+        p = SS_Q30_ONE + shr_floor(w * p, 30) / n;
+    }
+    /* times 2^-1/2 (Q30: 759250125) and 2^-k, rounded */
+    const int64_t r = (p * 759250125LL) >> 30;
+    return (int32_t)((r + (k > 0 ? ((int64_t)1 << (k - 1)) : 0)) >> k);
+}

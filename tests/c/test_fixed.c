@@ -1,0 +1,43 @@
+/* Fixed-point kernels against double precision. */
+#include "ss_test.h"
+
+#include "ss_fixed.h"
+
+static void test_sat32(void **unused)
+{
+    (void)unused;
+    assert_int_equal(ss_sat32((int64_t)INT32_MAX + 5), INT32_MAX);
+    assert_int_equal(ss_sat32((int64_t)INT32_MIN - 5), INT32_MIN);
+    assert_int_equal(ss_sat32(-42), -42);
+}
+
+/* Every x on a 2^-12 grid over [0, 32): error < 2^-26, monotone, exact at 0. */
+static void test_exp_neg_error_bound(void **unused)
+{
+    (void)unused;
+    assert_int_equal(ss_exp_neg_q16_q30(0), SS_Q30_ONE);
+    assert_int_equal(ss_exp_neg_q16_q30(-5 * SS_Q16_ONE), SS_Q30_ONE);
+    double worst = 0.0;
+    int32_t prev = SS_Q30_ONE;
+    for (int32_t x = 0; x < 32 * SS_Q16_ONE; x += 16) {
+        const int32_t q = ss_exp_neg_q16_q30(x);
+        const double err = fabs((double)q / (double)SS_Q30_ONE - exp(-(double)x / SS_Q16_ONE));
+        worst = err > worst ? err : worst;
+        if (q > prev) {
+            fail_msg("not monotone at x = %d: %d after %d", x, q, prev);
+        }
+        prev = q;
+    }
+    print_message("exp(-x), Q16.16 -> Q1.30: worst absolute error %.3g (2^%.1f)\n", worst, log2(worst));
+    assert_true(worst < ldexp(1.0, -26));
+    assert_int_equal(ss_exp_neg_q16_q30(INT32_MAX), 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sat32),
+        cmocka_unit_test(test_exp_neg_error_bound),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
