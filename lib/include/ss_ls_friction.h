@@ -38,6 +38,10 @@ ss_status_t ss_ls_init_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_
  * the slip velocity of the LuGre part and the viscous term. dt_s must be > 0. */
 float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m, float dt_s);
 
+/* Advance the state over dx_m taken in dt_s without computing a force (the actuator asks for the
+ * force at its own velocity with ss_ls_force_at_f32). Non-finite input changes nothing. */
+void ss_ls_advance_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m, float dt_s);
+
 /* Force at the current state for a relative velocity v (N), and its slope dF/dv (N s/m) in
  * *dfdv_ns_per_m when not NULL. step() ends with force_at(dx/dt); the actuator asks for the
  * velocity at the end of its step instead (docs/model.md, integrator). */

@@ -21,6 +21,11 @@ ss_status_t ss_lugre_init_f32(const ss_friction_config_f32_t *cfg, ss_lugre_stat
 float ss_lugre_step_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, float dx_m,
                         float dt_s);
 
+/* Advance the bristle over dx_m taken in dt_s without computing a force. Non-finite input changes
+ * nothing. */
+void ss_lugre_advance_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, float dx_m,
+                          float dt_s);
+
 /* Force at the current state for a relative velocity v (N), and its slope dF/dv (N s/m) in
  * *dfdv_ns_per_m when not NULL. step() ends with force_at(dx/dt); the actuator asks for the
  * velocity at the end of its step instead (docs/model.md, integrator). */

@@ -104,10 +104,10 @@ static float friction_step(const ss_actuator_config_f32_t *cfg, ss_actuator_stat
                            float v_end, float *dfdv)
 {
     if (cfg->friction_model == SS_FRICTION_LUGRE) {
-        (void)ss_lugre_step_f32(&cfg->friction, &st->fr.lugre, dx, cfg->dt_s);
+        ss_lugre_advance_f32(&cfg->friction, &st->fr.lugre, dx, cfg->dt_s);
         return ss_lugre_force_at_f32(&cfg->friction, &st->fr.lugre, v_end, dfdv);
     }
-    (void)ss_ls_step_f32(&cfg->friction, &st->fr.ls, dx, cfg->dt_s);
+    ss_ls_advance_f32(&cfg->friction, &st->fr.ls, dx, cfg->dt_s);
     return ss_ls_force_at_f32(&cfg->friction, &st->fr.ls, v_end, dfdv);
 }
 

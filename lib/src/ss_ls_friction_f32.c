@@ -105,10 +105,10 @@ static void rebase(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st)
     }
 }
 
-float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m, float dt_s)
+void ss_ls_advance_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m, float dt_s)
 {
     if (!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f)) {
-        return st->force_n;
+        return;
     }
     const float fm_old = st->fm_n;
     if (dx_m != 0.0f) {
@@ -136,6 +136,14 @@ float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st,
     /* no gross slip (presliding, sticking): exp(0) = 1, the same arithmetic without expf */
     const float decay = (slip == 0.0f) ? 1.0f : expf(-cfg->sigma0_n_per_m * fabsf(slip) / g);
     st->level_n = g + (st->level_n - g) * decay;
+}
+
+float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m, float dt_s)
+{
+    if (!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f)) {
+        return st->force_n;
+    }
+    ss_ls_advance_f32(cfg, st, dx_m, dt_s);
     st->force_n = ss_ls_force_at_f32(cfg, st, dx_m / dt_s, NULL);
     return st->force_n;
 }

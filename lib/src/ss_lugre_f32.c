@@ -20,19 +20,27 @@ ss_status_t ss_lugre_init_f32(const ss_friction_config_f32_t *cfg, ss_lugre_stat
     return SS_OK;
 }
 
+void ss_lugre_advance_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, float dx_m,
+                          float dt_s)
+{
+    if (!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f) || dx_m == 0.0f) {
+        return;
+    }
+    /* dz/dx = sgn(v) - sigma0 z / g relaxes z to sgn(v) g / sigma0 over the distance g / sigma0:
+     * exact for v frozen over the step, stable for any step. */
+    const float v = dx_m / dt_s;
+    const float g = ss_stribeck_f32(cfg, v);
+    const float z_ss = ss_sign_f32(v) * g / cfg->sigma0_n_per_m;
+    st->z_m = z_ss + (st->z_m - z_ss) * expf(-cfg->sigma0_n_per_m * fabsf(dx_m) / g);
+}
+
 float ss_lugre_step_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, float dx_m, float dt_s)
 {
     if (!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f)) {
         return st->force_n;
     }
+    ss_lugre_advance_f32(cfg, st, dx_m, dt_s);
     const float v = dx_m / dt_s;
-    if (dx_m != 0.0f) {
-        /* dz/dx = sgn(v) - sigma0 z / g relaxes z to sgn(v) g / sigma0 over the distance
-         * g / sigma0: exact for v frozen over the step, stable for any step. */
-        const float g = ss_stribeck_f32(cfg, v);
-        const float z_ss = ss_sign_f32(v) * g / cfg->sigma0_n_per_m;
-        st->z_m = z_ss + (st->z_m - z_ss) * expf(-cfg->sigma0_n_per_m * fabsf(dx_m) / g);
-    }
     st->zdot_m_per_s = v - cfg->sigma0_n_per_m * fabsf(v) * st->z_m / ss_stribeck_f32(cfg, v);
     st->force_n = ss_lugre_force_at_f32(cfg, st, v, NULL);
     return st->force_n;
