@@ -153,6 +153,7 @@ _proto(
 )
 _proto("ss_waveform_init_f32", C.c_int, C.POINTER(WaveformConfig), C.c_float, _P)
 _proto("ss_waveform_value_f32", C.c_float, C.POINTER(WaveformConfig), _P)
+_proto("ss_waveform_fill_f32", C.c_int, C.POINTER(WaveformConfig), _P, _FP, C.c_uint32)
 for _m in ("ls", "lugre"):
     _proto(f"ss_{_m}_init_f32", C.c_int, C.POINTER(FrictionConfig), _P)
     _proto(

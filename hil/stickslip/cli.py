@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import sys
@@ -174,19 +175,18 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
     w = _waveform(a)
     if a.decimation < 1:
         raise CliError(f"--decimation: must be >= 1, got {a.decimation}")
-    node: HostNode | None = None
-    url = a.url
-    try:
-        if url is None:
+    with contextlib.ExitStack() as stack:
+        url = a.url
+        if url is None:  # start a node here; the stack stops it whatever happens
             if a.node_link.startswith("qemu-"):
                 if a.link == "can":
                     raise CliError("the firmware serves the serial link only; use --link serial")
                 from .hil.client import QemuNode
 
-                node = QemuNode(a.node_link)
+                url = stack.enter_context(QemuNode(a.node_link)).url
             else:
-                node = HostNode(("can-" if a.link == "can" else "") + a.node_link)
-            url = node.url
+                link = ("can-" if a.link == "can" else "") + a.node_link
+                url = stack.enter_context(HostNode(link)).url
         if a.link == "can":
             from .hil.can_client import CanNodeClient
 
@@ -198,9 +198,6 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
             s = summary(run, c)
             if a.out:
                 s["dataset"] = str(record(run, node_params(c), a.out))
-    finally:
-        if node is not None:
-            node.close()
     if a.json:
         print(json.dumps(s, indent=2))
     else:
@@ -220,17 +217,10 @@ def cmd_hil_position(a: argparse.Namespace) -> int:
         raise CliError(f"--target-m: must be within +-25 mm, got {a.target_m}")
     if not a.tolerance_m > 0:
         raise CliError(f"--tolerance-m: must be > 0, got {a.tolerance_m}")
-    node = None
-    url = a.url
-    try:
-        if url is None:
-            node = HostNode("tcp")
-            url = node.url
+    with contextlib.ExitStack() as stack:
+        url = a.url or stack.enter_context(HostNode("tcp")).url
         with NodeClient(url) as c:
             r = position(c, a.target_m, a.tolerance_m, max_time_s=a.max_time_s)
-    finally:
-        if node is not None:
-            node.close()
     s = r.summary()
     if a.json:
         print(json.dumps(s, indent=2))

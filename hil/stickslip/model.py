@@ -310,6 +310,22 @@ def simulate(
     )
 
 
+def drive_samples(waveform: Sawtooth, dt_s: float, n_steps: int) -> np.ndarray:
+    """The drive at t = 0 and after each of n_steps steps, float32, from the C library's waveform
+    player: exactly what the batch simulator feeds the actuator (for lock-step peers and
+    controllers)."""
+    wave_cfg = waveform.config()
+    wst = N.new_waveform_state()
+    N.check(N.lib.ss_waveform_init_f32(C.byref(wave_cfg), dt_s, wst), "waveform")
+    out = np.zeros(n_steps + 1, np.float32)
+    out[0] = N.lib.ss_waveform_value_f32(C.byref(wave_cfg), wst)
+    N.check(
+        N.lib.ss_waveform_fill_f32(C.byref(wave_cfg), wst, N.float_ptr(out[1:]), n_steps),
+        "waveform",
+    )
+    return out
+
+
 def friction_response(
     x_m: np.ndarray, dt_s: float, model: str = "ls", params: ActuatorParams | None = None
 ) -> np.ndarray:

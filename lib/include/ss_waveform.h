@@ -45,6 +45,11 @@ float ss_waveform_value_f32(const ss_waveform_config_f32_t *cfg, const ss_wavefo
 /* Advance the player by one step. */
 void ss_waveform_advance_f32(ss_waveform_state_f32_t *st);
 
+/* The drive after each of the next n steps (advance, then value), into out[0..n-1]: what
+ * ss_actuator_run_f32 feeds the actuator, for a lock-step peer or a controller to send. */
+ss_status_t ss_waveform_fill_f32(const ss_waveform_config_f32_t *cfg, ss_waveform_state_f32_t *st, float *out,
+                                 uint32_t n);
+
 /* Sawtooth shape alone: voltage at phase p in [0, 1) of a period. */
 float ss_sawtooth_at_phase_f32(const ss_waveform_config_f32_t *cfg, float phase);
 

@@ -130,3 +130,16 @@ void ss_waveform_advance_f32(ss_waveform_state_f32_t *st)
         }
     }
 }
+
+ss_status_t ss_waveform_fill_f32(const ss_waveform_config_f32_t *cfg, ss_waveform_state_f32_t *st, float *out,
+                                 uint32_t n)
+{
+    if (cfg == NULL || st == NULL || (n > 0u && out == NULL)) {
+        return SS_ERR_NULL;
+    }
+    for (uint32_t i = 0; i < n; ++i) {
+        ss_waveform_advance_f32(st);
+        out[i] = ss_waveform_value_f32(cfg, st);
+    }
+    return SS_OK;
+}

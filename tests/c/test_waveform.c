@@ -79,6 +79,25 @@ static void test_sampled_interpolates_and_holds(void **unused)
     assert_close(v[30], -10.0f, 0.0f);
 }
 
+/* fill gives, sample for sample, the advance-then-value sequence the actuator's run loop uses */
+static void test_fill_matches_player(void **unused)
+{
+    (void)unused;
+    ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(700.0f, 80.0f, 2.0f, 0.9f, -1, 3);
+    ss_waveform_state_f32_t a, b;
+    ss_waveform_init_f32(&w, 1e-6f, &a);
+    ss_waveform_init_f32(&w, 1e-6f, &b);
+    static float out[5000];
+    assert_int_equal(ss_waveform_fill_f32(&w, &a, out, 5000), SS_OK);
+    for (int k = 0; k < 5000; ++k) {
+        ss_waveform_advance_f32(&b);
+        assert_true(out[k] == ss_waveform_value_f32(&w, &b));
+    }
+    assert_memory_equal(&a, &b, sizeof a);
+    assert_int_equal(ss_waveform_fill_f32(&w, &a, NULL, 1), SS_ERR_NULL);
+    assert_int_equal(ss_waveform_fill_f32(&w, &a, NULL, 0), SS_OK);
+}
+
 static void test_waveform_validation(void **unused)
 {
     (void)unused;
@@ -117,6 +136,7 @@ int main(void)
         cmocka_unit_test(test_sawtooth_reverse_is_time_reversed),
         cmocka_unit_test(test_long_run_keeps_phase),
         cmocka_unit_test(test_sampled_interpolates_and_holds),
+        cmocka_unit_test(test_fill_matches_player),
         cmocka_unit_test(test_waveform_validation),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model import Sawtooth
+from ..model import Sawtooth, drive_samples
 
 
 @dataclass
@@ -30,16 +30,6 @@ class PositioningResult:
             "coarse_periods": self.coarse_periods,
             "model_time_s": float(self.t_s[-1]),
         }
-
-
-def sawtooth_period(w: Sawtooth, dt_s: float) -> np.ndarray:
-    """Drive samples of one period at the end of each step (the sawtooth of the data format)."""
-    n = int(round(w.period_s / dt_s))
-    phase = np.arange(1, n + 1) / n
-    p = 1.0 - phase if w.direction < 0 else phase
-    r = w.rise_fraction
-    shape = np.where(p < r, p / r, (1.0 - p) / (1.0 - r))
-    return (w.offset_v + w.amplitude_v * shape).astype(np.float32)
 
 
 def position(
@@ -83,7 +73,7 @@ def position(
         if margin <= err <= stroke_m - margin:
             break
         w = Sawtooth(frequency_hz, stroke_v, 0.0, 0.95, 1 if err > 0 else -1, 1)
-        play(sawtooth_period(w, dt))
+        play(drive_samples(w, dt, int(round(w.period_s / dt)))[1:])
         coarse += 1
     # let the contact ring down before the fine loop reads the position
     play(np.zeros(int(round(hold_s / dt)), np.float32))

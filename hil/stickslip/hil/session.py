@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import dataset as D
-from ..model import ActuatorParams, Sawtooth, simulate
+from ..model import ActuatorParams, Sawtooth, drive_samples
 from .client import NodeClient, Telemetry
 
 
@@ -63,7 +63,7 @@ def play(
     dt = client.info.dt_s
     steps = int(round(w.duration_s / dt))
     if mode == "lockstep":
-        drive = simulate(w, model=client.info.model, dt_s=dt).drive_v.astype(np.float32)
+        drive = drive_samples(w, dt, steps)
         block = max(decimation, (40 // decimation) * decimation)
         client.reset(float(drive[0]))
         t0 = time.perf_counter()
