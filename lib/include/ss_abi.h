@@ -13,7 +13,16 @@ typedef enum {
     SS_ABI_WAVEFORM_STATE_F32 = 4,
     SS_ABI_LS_STATE_F32 = 5,
     SS_ABI_LUGRE_STATE_F32 = 6,
-    SS_ABI_ACTUATOR_TRACE_F32 = 7
+    SS_ABI_ACTUATOR_TRACE_F32 = 7,
+    SS_ABI_FRICTION_CONFIG_Q = 8,
+    SS_ABI_ACTUATOR_CONFIG_Q = 9,
+    SS_ABI_ACTUATOR_STATE_Q = 10,
+    SS_ABI_WAVEFORM_CONFIG_Q = 11,
+    SS_ABI_WAVEFORM_STATE_Q = 12,
+    SS_ABI_LS_STATE_Q = 13,
+    SS_ABI_LUGRE_STATE_Q = 14,
+    SS_ABI_ACTUATOR_TRACE_Q = 15,
+    SS_ABI_ACTUATOR_SI = 16
 } ss_abi_struct_t;
 
 /* sizeof the struct, or 0 for an unknown id. */

@@ -1,6 +1,6 @@
-/* Fixed-point kernels for the _q family (issue 3, in progress): integer arithmetic only, 32-bit
- * values with 64-bit intermediates, saturation instead of wrap-around. Q formats are named in
- * each signature; docs/fixed-point.md will tabulate the model's signals. */
+/* Fixed-point kernels for the _q family: integer arithmetic only, 32-bit values with 64-bit
+ * intermediates, saturation instead of wrap-around. Q formats are named in each signature;
+ * docs/fixed-point.md tabulates the model's signals and the error bound of each kernel. */
 #ifndef SS_FIXED_H
 #define SS_FIXED_H
 
@@ -16,5 +16,11 @@ int32_t ss_sat32(int64_t v);
  * 2^30; results are non-increasing in x; the absolute error is below 2^-26 (tests/c/test_fixed.c
  * checks every x on a 2^-12 grid against double precision). Negative x saturates to 1.0. */
 int32_t ss_exp_neg_q16_q30(int32_t x_q16);
+
+/* exp(-x) for x >= 0 given with 32 fraction bits (unsigned, x < 2^32), as Q1.30. The part below
+ * 2^-16 is applied as exp(-l) ~ 1 - l (error l^2/2 < 2^-33), so the argument keeps 2^-32
+ * resolution where the Q16.16 kernel would quantise it: 1 - exp(-x) is then accurate for small x
+ * (the Masing branch right after a reversal). Absolute error < 2^-26 + 2^-31. */
+int32_t ss_exp_neg_q32_q30(uint64_t x_q32);
 
 #endif /* SS_FIXED_H */

@@ -48,3 +48,15 @@ int32_t ss_exp_neg_q16_q30(int32_t x_q16)
     const int64_t r = (p * 759250125LL) >> 30;
     return (int32_t)((r + (k > 0 ? ((int64_t)1 << (k - 1)) : 0)) >> k);
 }
+
+int32_t ss_exp_neg_q32_q30(uint64_t x_q32)
+{
+    const uint64_t hi = x_q32 >> 16;
+    if (hi > (uint64_t)INT32_MAX) {
+        return 0;
+    }
+    const int64_t e_hi = ss_exp_neg_q16_q30((int32_t)hi);
+    const int64_t lo = (int64_t)(x_q32 & 0xFFFFu); /* units of 2^-32, below 2^-16 */
+    /* e_hi * (1 - lo): e_hi * lo < 2^30 * 2^16, no overflow; rounded to nearest */
+    return (int32_t)(e_hi - ((e_hi * lo + ((int64_t)1 << 31)) >> 32));
+}

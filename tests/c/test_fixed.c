@@ -33,11 +33,32 @@ static void test_exp_neg_error_bound(void **unused)
     assert_int_equal(ss_exp_neg_q16_q30(INT32_MAX), 0);
 }
 
+/* The Q32 argument: same bound plus the linearised tail (2^-33) and rounding (2^-31), and
+ * 1 - exp(-x) resolved for x far below the Q16 quantum (the Masing branch after a reversal). */
+static void test_exp_neg_q32_error_bound(void **unused)
+{
+    (void)unused;
+    const double bound = ldexp(1.0, -26) + ldexp(1.0, -31);
+    double worst = 0.0;
+    for (uint64_t x = 0; x < ((uint64_t)24 << 32); x += 0x1234567ull) {
+        const double err = fabs(ss_exp_neg_q32_q30(x) / (double)SS_Q30_ONE - exp(-ldexp((double)x, -32)));
+        worst = err > worst ? err : worst;
+    }
+    print_message("exp(-x), Q32 -> Q1.30: worst absolute error %.3g (2^%.1f)\n", worst, log2(worst));
+    assert_true(worst < bound);
+    /* x = 1000 x 2^-32 (2.3e-7) lies inside one Q16 quantum: 1 - e must still be x to 1 % */
+    const double one_minus = 1.0 - ss_exp_neg_q32_q30(1000u) / (double)SS_Q30_ONE;
+    assert_close(one_minus, ldexp(1000.0, -32), 0.01 * ldexp(1000.0, -32));
+    assert_int_equal(ss_exp_neg_q32_q30(0u), SS_Q30_ONE);
+    assert_int_equal(ss_exp_neg_q32_q30(UINT64_MAX), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sat32),
         cmocka_unit_test(test_exp_neg_error_bound),
+        cmocka_unit_test(test_exp_neg_q32_error_bound),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

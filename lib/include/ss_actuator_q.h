@@ -1,0 +1,91 @@
+/* The two-mass stick-slip actuator in fixed point: the same equations and the same kick-drift-kick
+ * integrator (exact rod flow, implicit friction damping) as ss_actuator.h, in integer arithmetic.
+ * The config holds the step's coefficients (rod flow matrix, kicks), computed on the host by
+ * ss_actuator_config_to_q (ss_convert_q.h) or taken from ss_actuator_config_table1_q.
+ * Formats, ranges and errors: docs/fixed-point.md. */
+#ifndef SS_ACTUATOR_Q_H
+#define SS_ACTUATOR_Q_H
+
+#include <stdint.h>
+
+#include "ss_friction_q.h"
+#include "ss_ls_friction_q.h"
+#include "ss_lugre_q.h"
+#include "ss_waveform_q.h"
+
+/* Values of friction_model, as ss_friction_kind_t of the float family (0 LS, 1 LuGre). */
+#define SS_FRICTION_Q_LS 0
+#define SS_FRICTION_Q_LUGRE 1
+
+typedef struct {
+    int32_t dt_q40;         /* fixed step, s at 2^-40: [1100 (1.0 ns), 2^31) */
+    int32_t piezo_gain_q48; /* ideal strain per volt, m/V at 2^-48: nonzero, |gain| < 7.6 um/V */
+    int32_t friction_model; /* SS_FRICTION_Q_LS or SS_FRICTION_Q_LUGRE */
+    int32_t lag_q24; /* c / (k dt): forced-response lag of the rod per strain increment, Q8.24 [0, 128) */
+    int32_t kick_rod_q40;    /* dt / (2 M_R): rod velocity per newton per half step, (m/s)/N at 2^-40, > 0 */
+    int32_t kick_slider_q40; /* dt / (2 M_c): the same for the slider, > 0 */
+    /* Exact rod flow over dt on (e, e' dt), e the rod's deviation from its forced response:
+     * {phi00, phi01 / dt, phi10 dt, phi11} of the float family's phi, dimensionless, Q4.28 */
+    int32_t phi_q28[4];
+    ss_friction_config_q_t friction;
+} ss_actuator_config_q_t;
+
+typedef struct {
+    int64_t x_slider_q40; /* slider position, m at 2^-40 (+-8.4e6 m; 0.91 pm resolution) */
+    int32_t x_rod_q40;    /* rod position, m at 2^-40 (+-1.95 mm) */
+    int32_t v_rod_q28;    /* rod velocity, m/s at 2^-28 (+-8 m/s) */
+    int32_t v_slider_q28; /* slider velocity, m/s at 2^-28 */
+    int32_t x_p_q40;      /* ideal piezo strain at the current time, m at 2^-40 */
+    int32_t drive_q16;    /* drive at the current time, V in Q16.16 */
+    int32_t force_q24;    /* friction on the slider (on the rod: minus it), N at 2^-24 */
+    uint32_t steps;       /* steps taken since init */
+    uint32_t pad;         /* zero; keeps the union 8-byte aligned on every target */
+    union {
+        ss_ls_state_q_t ls;
+        ss_lugre_state_q_t lugre;
+    } fr;
+} ss_actuator_state_q_t;
+
+/* Table I (LS friction, gain 44 nm/V, dt 1 us) as integer constants: exactly what
+ * ss_actuator_config_to_q makes of ss_actuator_config_table1_f32() (checked by a test). */
+ss_actuator_config_q_t ss_actuator_config_table1_q(void);
+
+/* SS_OK or the first problem with cfg; *bad_field (when not NULL) names the field, e.g. "dt_q40"
+ * or "friction.fc_q24". The rod flow matrix is not checked (it can only be computed on the host). */
+ss_status_t ss_actuator_config_check_q(const ss_actuator_config_q_t *cfg, const char **bad_field);
+
+/* Validate cfg and put the actuator at rest under drive0 (V in Q16.16). */
+ss_status_t ss_actuator_init_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                               int32_t drive0_q16);
+
+/* One step of dt, the drive going linearly from its current value to drive (V in Q16.16). */
+ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                               int32_t drive_q16);
+
+/* Columns a run may record (any pointer may be NULL); formats as in the state. */
+typedef struct {
+    uint32_t *step;
+    int32_t *drive_q16;
+    int32_t *x_p_q40;
+    int32_t *x_rod_q40;
+    int64_t *x_slider_q40;
+    int32_t *v_rod_q28;
+    int32_t *v_slider_q28;
+    int32_t *force_q24;
+    int32_t *state_a;  /* LS: break-away level s (N at 2^-24);  LuGre: bristle z (m at 2^-40) */
+    int32_t *state_b;  /* LS: presliding force F_M (N at 2^-24); LuGre: dz/dt (m/s at 2^-28) */
+    uint32_t capacity; /* rows the buffers hold */
+} ss_actuator_trace_q_t;
+
+/* Write the current state into row `row` of the trace (row < capacity is the caller's duty). */
+void ss_actuator_record_q(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
+                          ss_actuator_trace_q_t *trace, uint32_t row);
+
+/* Play a waveform through the actuator for n_steps, recording after every decimation-th step, as
+ * ss_actuator_run_f32. rows_out gets the rows written. */
+ss_status_t ss_actuator_run_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                              const ss_waveform_config_q_t *wave, ss_waveform_state_q_t *wst,
+                              uint32_t n_steps, uint32_t decimation, ss_actuator_trace_q_t *trace,
+                              uint32_t *rows_out);
+
+#endif /* SS_ACTUATOR_Q_H */

@@ -1,0 +1,49 @@
+/* Fixed-point (_q) parameters of the friction models and the Stribeck curve
+ * g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2). Integer arithmetic only; formats: docs/fixed-point.md.
+ * Units of the q family: length 2^-40 m (_q40), time 2^-40 s (_q40), velocity 2^-28 m/s (_q28),
+ * force 2^-24 N (_q24), damping Q16.16 N s/m (_q16), ratios Q1.30 (_q30). */
+#ifndef SS_FRICTION_Q_H
+#define SS_FRICTION_Q_H
+
+#include <stdint.h>
+
+#include "ss_status.h"
+
+/* Largest static friction the q family takes: forces are int32 at 2^-24 N (+-128 N), and the
+ * total friction adds damping terms to the presliding force, so Fs keeps a factor 4 headroom. */
+#define SS_Q_FS_MAX_Q24 ((int32_t)32 << 24)
+
+/* Longest presliding length the element may need before it re-bases its frame (24 Fs/sigma0):
+ * 2^28 x 2^-40 m = 0.24 mm keeps the local frame far inside int32 (+-1.95 mm). */
+#define SS_Q_SAT_LENGTH_MAX_Q40 ((int64_t)1 << 28)
+
+/* Fs/Fc at most this: the ratio s/g (<= Fs/Fc) times a velocity must fit 64-bit intermediates. */
+#define SS_Q_FS_OVER_FC_MAX 64
+
+typedef struct {
+    int32_t fs_q24;         /* static friction Fs, N at 2^-24: (0, 32 N] */
+    int32_t fc_q24;         /* Coulomb friction Fc, N at 2^-24: [Fs/64, Fs] */
+    int32_t vs_q28;         /* Stribeck velocity, m/s at 2^-28: [2^-28, 8) m/s */
+    int32_t sigma0_n_per_m; /* initial contact stiffness, whole N/m: [1, 2^31), 24 Fs/sigma0 <= 0.24 mm */
+    int32_t sigma1_q16;     /* micro-damping, N s/m in Q16.16: [0, 32768) */
+    int32_t sigma2_q16;     /* viscous friction, N s/m in Q16.16: [0, 32768) */
+} ss_friction_config_q_t;
+
+/* Table I of the LS paper as integer constants (no float anywhere): what ss_friction_config_to_q
+ * makes of ss_friction_config_table1_f32() (tests/c/test_fixed_model.c checks it bit for bit). */
+ss_friction_config_q_t ss_friction_config_table1_q(void);
+
+/* SS_OK, SS_ERR_NULL or SS_ERR_RANGE; *bad_field (when not NULL) names the field, e.g. "fc_q24". */
+ss_status_t ss_friction_config_check_q(const ss_friction_config_q_t *cfg, const char **bad_field);
+
+/* As ss_friction_config_check_q, names prefixed "friction." when prefixed != 0; bad_field not NULL. */
+ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, int prefixed,
+                                             const char **bad_field);
+
+/* Stribeck curve g(v), N at 2^-24, for v in m/s at 2^-28. */
+int32_t ss_stribeck_q(const ss_friction_config_q_t *cfg, int32_t v_q28);
+
+/* Slope dg/dv, N s/m in Q16.16 (saturated). */
+int32_t ss_stribeck_slope_q(const ss_friction_config_q_t *cfg, int32_t v_q28);
+
+#endif /* SS_FRICTION_Q_H */

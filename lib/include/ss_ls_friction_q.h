@@ -1,0 +1,48 @@
+/* LS friction in fixed point: the same model as ss_ls_friction.h (Masing presliding element with
+ * a reversal stack, LuGre sliding part driven by the gross slip), in integer arithmetic. The
+ * exponentials go through ss_exp_neg_q32_q30; formats and error bounds: docs/fixed-point.md. */
+#ifndef SS_LS_FRICTION_Q_H
+#define SS_LS_FRICTION_Q_H
+
+#include <stdint.h>
+
+#include "ss_friction_q.h"
+
+/* Same depth as the float family (SS_LS_MEMORY_DEPTH), kept apart so this header sees no float. */
+#define SS_LS_Q_MEMORY_DEPTH 32
+
+typedef struct {
+    int32_t x_q40; /* reversal position in the local frame, m at 2^-40 */
+    int32_t f_q24; /* presliding force F_M there, N at 2^-24 */
+} ss_ls_reversal_q_t;
+
+typedef struct {
+    int32_t x_q40;     /* relative displacement in the local frame (re-based in gross sliding), m at 2^-40 */
+    int32_t x0_q40;    /* origin of the virgin curve in the local frame, m at 2^-40 */
+    int32_t fm_q24;    /* Masing presliding force F_M, N at 2^-24, |F_M| <= Fs */
+    int32_t kt_q30;    /* tangent stiffness over sigma0, dF_M/dx / sigma0 in Q1.30, [0, 1] */
+    int32_t level_q24; /* break-away level s: Fs at rest, -> g(v) in gross sliding, N at 2^-24 */
+    int32_t force_q24; /* total friction after the last step, N at 2^-24 */
+    int8_t dir;        /* direction of the last motion: +1, -1, 0 before any motion */
+    uint8_t depth;     /* reversal points on the stack */
+    ss_ls_reversal_q_t rev[SS_LS_Q_MEMORY_DEPTH];
+} ss_ls_state_q_t;
+
+ss_status_t ss_ls_init_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st);
+
+/* Advance by dx (m at 2^-40) taken in dt (s at 2^-40, > 0), return the force (N at 2^-24). */
+int32_t ss_ls_step_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int32_t dx_q40, int32_t dt_q40);
+
+/* Advance the state without computing a force; dt_q40 <= 0 changes nothing. */
+void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int32_t dx_q40, int32_t dt_q40);
+
+/* Force at the current state for relative velocity v (m/s at 2^-28), N at 2^-24, and its slope
+ * dF/dv (N s/m in Q16.16) in *dfdv_q16 when not NULL. */
+int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_t *st, int32_t v_q28,
+                         int32_t *dfdv_q16);
+
+/* n increments dx_q40[i], each in dt_q40; forces into force_q24[i]. */
+ss_status_t ss_ls_run_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, const int32_t *dx_q40,
+                        uint32_t n, int32_t dt_q40, int32_t *force_q24);
+
+#endif /* SS_LS_FRICTION_Q_H */

@@ -1,0 +1,35 @@
+/* LuGre friction in fixed point: the same model as ss_lugre.h (bristle update exact for a
+ * velocity frozen over the step), in integer arithmetic. Formats: docs/fixed-point.md. */
+#ifndef SS_LUGRE_Q_H
+#define SS_LUGRE_Q_H
+
+#include <stdint.h>
+
+#include "ss_friction_q.h"
+
+typedef struct {
+    int32_t z_q40;     /* mean bristle deflection, m at 2^-40 (|z| <= Fs/sigma0) */
+    int32_t zdot_q28;  /* dz/dt at the end of the last step, m/s at 2^-28 */
+    int32_t force_q24; /* friction after the last step, N at 2^-24 */
+} ss_lugre_state_q_t;
+
+ss_status_t ss_lugre_init_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st);
+
+/* Advance by dx (m at 2^-40) taken in dt (s at 2^-40, > 0), return the force (N at 2^-24). */
+int32_t ss_lugre_step_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, int32_t dx_q40,
+                        int32_t dt_q40);
+
+/* Advance the bristle without computing a force; dt_q40 <= 0 or dx_q40 == 0 changes nothing. */
+void ss_lugre_advance_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, int32_t dx_q40,
+                        int32_t dt_q40);
+
+/* Force at the current state for relative velocity v (m/s at 2^-28), N at 2^-24, and its slope
+ * dF/dv (N s/m in Q16.16) in *dfdv_q16 when not NULL. */
+int32_t ss_lugre_force_at_q(const ss_friction_config_q_t *cfg, const ss_lugre_state_q_t *st, int32_t v_q28,
+                            int32_t *dfdv_q16);
+
+/* n increments dx_q40[i], each in dt_q40; forces into force_q24[i]. */
+ss_status_t ss_lugre_run_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, const int32_t *dx_q40,
+                           uint32_t n, int32_t dt_q40, int32_t *force_q24);
+
+#endif /* SS_LUGRE_Q_H */

@@ -1,0 +1,48 @@
+/* The sawtooth drive in fixed point: a 64-bit phase accumulator (bit-exact period boundaries on
+ * every target) and voltages in Q16.16. The float family's sampled drive has no q counterpart:
+ * a sampled drive is fed to ss_actuator_step_q sample by sample. Formats: docs/fixed-point.md. */
+#ifndef SS_WAVEFORM_Q_H
+#define SS_WAVEFORM_Q_H
+
+#include <stdint.h>
+
+#include "ss_status.h"
+
+typedef struct {
+    uint32_t frequency_mhz; /* mHz: (0, 2^32), i.e. up to 4.29 MHz; a period must be longer than dt */
+    int32_t amplitude_q16;  /* V in Q16.16 (+-32768 V) */
+    int32_t offset_q16;     /* V in Q16.16 */
+    uint32_t rise_q32;      /* slow-edge share of the period, fraction at 2^-32: (0, 2^32) */
+    int32_t direction;      /* +1 slow rise then fast fall; -1 the period reversed in time */
+    uint32_t cycles;        /* periods played; afterwards the drive holds offset */
+} ss_waveform_config_q_t;
+
+typedef struct {
+    uint64_t phase_q64; /* time into the current period, fraction of the period at 2^-64 */
+    uint64_t step_q64;  /* phase increment per step: f dt 2^64, rounded */
+    uint32_t index;     /* period index */
+    uint32_t pad;       /* zero; keeps the size a multiple of 8 on every target */
+} ss_waveform_state_q_t;
+
+ss_waveform_config_q_t ss_waveform_sawtooth_q(uint32_t frequency_mhz, int32_t amplitude_q16,
+                                              int32_t offset_q16, uint32_t rise_q32, int32_t direction,
+                                              uint32_t cycles);
+
+/* Validate cfg (SS_ERR_RANGE also when a period is not longer than the step) and start the player
+ * at t = 0 with step dt (s at 2^-40, > 0). */
+ss_status_t ss_waveform_init_q(const ss_waveform_config_q_t *cfg, int32_t dt_q40, ss_waveform_state_q_t *st);
+
+/* Drive voltage at the player's current time, V in Q16.16 (saturated). */
+int32_t ss_waveform_value_q(const ss_waveform_config_q_t *cfg, const ss_waveform_state_q_t *st);
+
+/* Advance the player by one step. */
+void ss_waveform_advance_q(ss_waveform_state_q_t *st);
+
+/* The drive after each of the next n steps (advance, then value), into out_q16[0..n-1]. */
+ss_status_t ss_waveform_fill_q(const ss_waveform_config_q_t *cfg, ss_waveform_state_q_t *st, int32_t *out_q16,
+                               uint32_t n);
+
+/* Sawtooth shape alone: voltage (Q16.16) at phase p (fraction of a period at 2^-32). */
+int32_t ss_sawtooth_at_phase_q(const ss_waveform_config_q_t *cfg, uint32_t phase_q32);
+
+#endif /* SS_WAVEFORM_Q_H */

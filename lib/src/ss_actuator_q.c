@@ -1,0 +1,218 @@
+#include "ss_actuator_q.h"
+
+#include <stddef.h>
+
+#include "ss_fixed_ops.h"
+
+/* 0.1 in Q30, the float family's floor on the implicit-damping denominator. */
+#define SS_ACT_Q_DENOM_MIN_Q30 107374182
+
+ss_actuator_config_q_t ss_actuator_config_table1_q(void)
+{
+    /* ss_actuator_config_to_q(ss_actuator_config_table1_f32()), rounded in double on the host */
+    ss_actuator_config_q_t cfg;
+    cfg.dt_q40 = 1099512;          /* 1 us (1.00000034 us) */
+    cfg.piezo_gain_q48 = 12384899; /* 44 nm/V */
+    cfg.friction_model = SS_FRICTION_Q_LS;
+    cfg.lag_q24 = 500090;           /* 6.2 / (2.08e8 x 1 us) = 0.0298 */
+    cfg.kick_rod_q40 = 499778185;   /* 1 us / (2 x 1.1 g) */
+    cfg.kick_slider_q40 = 39837392; /* 1 us / (2 x 13.8 g) */
+    cfg.phi_q28[0] = 243500213;     /* 69.2 kHz rod mode, damping ratio 0.0065, over 1 us */
+    cfg.phi_q28[1] = 259323787;
+    cfg.phi_q28[2] = -49035804;
+    cfg.phi_q28[3] = 242038569;
+    cfg.friction = ss_friction_config_table1_q();
+    return cfg;
+}
+
+ss_status_t ss_actuator_config_check_q(const ss_actuator_config_q_t *cfg, const char **bad_field)
+{
+    const char *dummy = "";
+    const char **bad = (bad_field != NULL) ? bad_field : &dummy;
+    *bad = "";
+    if (cfg == NULL) {
+        *bad = "config";
+        return SS_ERR_NULL;
+    }
+    if (cfg->dt_q40 < 1100) {
+        *bad = "dt_q40";
+    } else if (cfg->piezo_gain_q48 == 0) {
+        *bad = "piezo_gain_q48";
+    } else if (cfg->friction_model != SS_FRICTION_Q_LS && cfg->friction_model != SS_FRICTION_Q_LUGRE) {
+        *bad = "friction_model";
+    } else if (cfg->lag_q24 < 0) {
+        *bad = "lag_q24";
+    } else if (cfg->kick_rod_q40 <= 0) {
+        *bad = "kick_rod_q40";
+    } else if (cfg->kick_slider_q40 <= 0) {
+        *bad = "kick_slider_q40";
+    } else {
+        return ss_friction_config_check_named_q(&cfg->friction, 1, bad);
+    }
+    return SS_ERR_RANGE;
+}
+
+/* Ideal strain of a drive voltage: m/V at 2^-48 times V at 2^-16 is m at 2^-64. */
+static int32_t strain_q40(const ss_actuator_config_q_t *cfg, int32_t drive_q16)
+{
+    return ss_sat32(ss_shr_round((int64_t)cfg->piezo_gain_q48 * drive_q16, 24));
+}
+
+ss_status_t ss_actuator_init_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                               int32_t drive0_q16)
+{
+    if (cfg == NULL || st == NULL) {
+        return SS_ERR_NULL;
+    }
+    ss_status_t status = ss_actuator_config_check_q(cfg, NULL);
+    if (status != SS_OK) {
+        return status;
+    }
+    if (cfg->friction_model == SS_FRICTION_Q_LUGRE) {
+        status = ss_lugre_init_q(&cfg->friction, &st->fr.lugre);
+    } else {
+        status = ss_ls_init_q(&cfg->friction, &st->fr.ls);
+    }
+    if (status != SS_OK) {
+        return status;
+    }
+    st->drive_q16 = drive0_q16;
+    st->x_p_q40 = strain_q40(cfg, drive0_q16);
+    st->x_rod_q40 = st->x_p_q40; /* static equilibrium: no friction at the virgin state */
+    st->v_rod_q28 = 0;
+    st->x_slider_q40 = 0;
+    st->v_slider_q28 = 0;
+    st->force_q24 = 0;
+    st->steps = 0u;
+    st->pad = 0u;
+    return SS_OK;
+}
+
+/* Half a step of the friction force on both bodies: N at 2^-24 times (m/s)/N at 2^-40 is m/s at
+ * 2^-64. */
+static void kick(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st)
+{
+    st->v_rod_q28 = ss_sat32(st->v_rod_q28 - ss_shr_round((int64_t)st->force_q24 * cfg->kick_rod_q40, 36));
+    st->v_slider_q28 =
+        ss_sat32(st->v_slider_q28 + ss_shr_round((int64_t)st->force_q24 * cfg->kick_slider_q40, 36));
+}
+
+ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                               int32_t drive_q16)
+{
+    if (cfg == NULL || st == NULL) {
+        return SS_ERR_NULL;
+    }
+    if (cfg->dt_q40 <= 0) {
+        return SS_ERR_RANGE; /* cfg did not pass init: never divide by it */
+    }
+    const int64_t dt = cfg->dt_q40;
+    kick(cfg, st);
+
+    /* drift: exact flow of the rod under a strain ramping linearly over the step (rate b); its
+     * forced response is x_p(t) - c b / k, the rest e is free. Intermediates saturate at the
+     * formats' ranges (a drive jump beyond 8 m/s of strain rate is not a physical drive). */
+    const int32_t x_p1 = strain_q40(cfg, drive_q16);
+    const int64_t dxp = ss_sat32((int64_t)x_p1 - st->x_p_q40);
+    const int64_t b = ss_sat32(ss_div_round(dxp * ((int64_t)1 << 28), dt)); /* m/s at 2^-28 */
+    const int64_t lag = ss_shr_round((int64_t)cfg->lag_q24 * dxp, 24);      /* c b / k, m at 2^-40 */
+    const int64_t e0 = ss_sat32((int64_t)st->x_rod_q40 - (st->x_p_q40 - lag));
+    const int64_t ed0 = ss_sat32((int64_t)st->v_rod_q28 - b);
+    const int32_t *phi = cfg->phi_q28;
+    /* e1 = phi00 e0 + (phi01/dt) (e0' dt);  e1' = (phi10 dt) e0 / dt + phi11 e0' */
+    const int64_t w = ss_sat32(ss_shr_round(phi[1] * ed0, 28)); /* m/s at 2^-28 */
+    const int64_t e1 = ss_shr_round(phi[0] * e0, 28) + ss_shr_round(w * dt, 28);
+    const int64_t ed1 = ss_div_round(phi[2] * e0, dt) + ss_shr_round(phi[3] * ed0, 28);
+    const int32_t x_rod1 = ss_sat32(x_p1 - lag + e1);
+    const int32_t dx_slider = ss_sat32(ss_shr_round((int64_t)st->v_slider_q28 * dt, 28));
+    const int32_t dx_rel = ss_sat32((int64_t)x_rod1 - st->x_rod_q40 - dx_slider);
+    st->x_rod_q40 = x_rod1;
+    st->v_rod_q28 = ss_sat32(b + ed1);
+    st->x_slider_q40 += dx_slider; /* the same increment the friction sees: no drift between them */
+    st->x_p_q40 = x_p1;
+    st->drive_q16 = drive_q16;
+
+    /* friction at the new state and the velocity the step ends with, solved for the closing kick
+     * (implicit in the damping terms): F = F_free / (1 + dF/dv dt/2 (1/M_R + 1/M_c)) */
+    const int32_t v_free = ss_sat32((int64_t)st->v_rod_q28 - st->v_slider_q28);
+    int32_t dfdv = 0;
+    int32_t f_free;
+    if (cfg->friction_model == SS_FRICTION_Q_LUGRE) {
+        ss_lugre_advance_q(&cfg->friction, &st->fr.lugre, dx_rel, cfg->dt_q40);
+        f_free = ss_lugre_force_at_q(&cfg->friction, &st->fr.lugre, v_free, &dfdv);
+    } else {
+        ss_ls_advance_q(&cfg->friction, &st->fr.ls, dx_rel, cfg->dt_q40);
+        f_free = ss_ls_force_at_q(&cfg->friction, &st->fr.ls, v_free, &dfdv);
+    }
+    /* N s/m in Q16 times (m/s)/N at 2^-40 is 2^-56: to Q30 */
+    const int64_t kicks = (int64_t)cfg->kick_rod_q40 + cfg->kick_slider_q40;
+    const int64_t denom = SS_Q30_ONE + ss_shr_round(dfdv * kicks, 26);
+    st->force_q24 = (denom > SS_ACT_Q_DENOM_MIN_Q30)
+                        ? ss_sat32(ss_div_round((int64_t)f_free * SS_Q30_ONE, denom))
+                        : f_free;
+
+    kick(cfg, st);
+    st->steps++;
+    return SS_OK;
+}
+
+void ss_actuator_record_q(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
+                          ss_actuator_trace_q_t *tr, uint32_t row)
+{
+    const int lugre = (cfg->friction_model == SS_FRICTION_Q_LUGRE);
+    if (tr->step != NULL) {
+        tr->step[row] = st->steps;
+    }
+    if (tr->drive_q16 != NULL) {
+        tr->drive_q16[row] = st->drive_q16;
+    }
+    if (tr->x_p_q40 != NULL) {
+        tr->x_p_q40[row] = st->x_p_q40;
+    }
+    if (tr->x_rod_q40 != NULL) {
+        tr->x_rod_q40[row] = st->x_rod_q40;
+    }
+    if (tr->x_slider_q40 != NULL) {
+        tr->x_slider_q40[row] = st->x_slider_q40;
+    }
+    if (tr->v_rod_q28 != NULL) {
+        tr->v_rod_q28[row] = st->v_rod_q28;
+    }
+    if (tr->v_slider_q28 != NULL) {
+        tr->v_slider_q28[row] = st->v_slider_q28;
+    }
+    if (tr->force_q24 != NULL) {
+        tr->force_q24[row] = st->force_q24;
+    }
+    if (tr->state_a != NULL) {
+        tr->state_a[row] = lugre ? st->fr.lugre.z_q40 : st->fr.ls.level_q24;
+    }
+    if (tr->state_b != NULL) {
+        tr->state_b[row] = lugre ? st->fr.lugre.zdot_q28 : st->fr.ls.fm_q24;
+    }
+}
+
+ss_status_t ss_actuator_run_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                              const ss_waveform_config_q_t *wave, ss_waveform_state_q_t *wst,
+                              uint32_t n_steps, uint32_t decimation, ss_actuator_trace_q_t *trace,
+                              uint32_t *rows_out)
+{
+    if (cfg == NULL || st == NULL || wave == NULL || wst == NULL || rows_out == NULL) {
+        return SS_ERR_NULL;
+    }
+    *rows_out = 0u;
+    if (decimation == 0u || (trace != NULL && trace->capacity < n_steps / decimation)) {
+        return SS_ERR_RANGE;
+    }
+    uint32_t rows = 0u;
+    ss_status_t status = SS_OK;
+    for (uint32_t i = 1u; i <= n_steps && status == SS_OK; ++i) {
+        ss_waveform_advance_q(wst);
+        status = ss_actuator_step_q(cfg, st, ss_waveform_value_q(wave, wst));
+        if (status == SS_OK && trace != NULL && i % decimation == 0u) {
+            ss_actuator_record_q(cfg, st, trace, rows++);
+        }
+    }
+    *rows_out = rows;
+    return status;
+}

@@ -1,0 +1,237 @@
+#include "ss_convert_q.h"
+
+#include <math.h>
+#include <stddef.h>
+
+/* round(x) as an integer if it lies in [lo, hi], else not ok (NaN fails the comparisons). */
+static int to_int(double x, double lo, double hi, int64_t *out)
+{
+    const double r = floor(x + 0.5);
+    if (!(r >= lo && r <= hi)) {
+        return 0;
+    }
+    *out = (int64_t)r;
+    return 1;
+}
+
+static const char *const FRICTION_NAMES[2][6] = {
+    {"fs_n", "fc_n", "vs_m_per_s", "sigma0_n_per_m", "sigma1_ns_per_m", "sigma2_ns_per_m"},
+    {"friction.fs_n", "friction.fc_n", "friction.vs_m_per_s", "friction.sigma0_n_per_m",
+     "friction.sigma1_ns_per_m", "friction.sigma2_ns_per_m"},
+};
+
+static ss_status_t friction_to_q(const ss_friction_config_f32_t *in, int prefixed,
+                                 ss_friction_config_q_t *out, const char **bad)
+{
+    ss_status_t st = ss_friction_config_check_named_f32(in, prefixed, bad);
+    if (st != SS_OK) {
+        return st;
+    }
+    const char *const *names = FRICTION_NAMES[prefixed ? 1 : 0];
+    const double i32max = 2147483647.0;
+    int64_t v[6] = {0, 0, 0, 0, 0, 0};
+    const int ok[6] = {
+        to_int((double)in->fs_n * 16777216.0, 1.0, (double)SS_Q_FS_MAX_Q24, &v[0]),
+        to_int((double)in->fc_n * 16777216.0, 1.0, i32max, &v[1]),
+        to_int((double)in->vs_m_per_s * 268435456.0, 1.0, i32max, &v[2]),
+        to_int((double)in->sigma0_n_per_m, 1.0, i32max, &v[3]),
+        to_int((double)in->sigma1_ns_per_m * 65536.0, 0.0, i32max, &v[4]),
+        to_int((double)in->sigma2_ns_per_m * 65536.0, 0.0, i32max, &v[5]),
+    };
+    for (int i = 0; i < 6; ++i) {
+        if (!ok[i]) {
+            *bad = names[i];
+            return SS_ERR_RANGE;
+        }
+    }
+    out->fs_q24 = (int32_t)v[0];
+    out->fc_q24 = (int32_t)v[1];
+    out->vs_q28 = (int32_t)v[2];
+    out->sigma0_n_per_m = (int32_t)v[3];
+    out->sigma1_q16 = (int32_t)v[4];
+    out->sigma2_q16 = (int32_t)v[5];
+    /* the q family's own limits (ss_friction_q.h), named by the float field */
+    if ((int64_t)out->fc_q24 * SS_Q_FS_OVER_FC_MAX < out->fs_q24) {
+        *bad = names[1];
+        return SS_ERR_RANGE;
+    }
+    if ((int64_t)24 * out->fs_q24 * 65536 > SS_Q_SAT_LENGTH_MAX_Q40 * out->sigma0_n_per_m) {
+        *bad = names[3];
+        return SS_ERR_RANGE;
+    }
+    return ss_friction_config_check_q(out, NULL); /* SS_OK: the checks above are the q check's */
+}
+
+ss_status_t ss_friction_config_to_q(const ss_friction_config_f32_t *in, ss_friction_config_q_t *out,
+                                    const char **bad_field)
+{
+    const char *dummy = "";
+    const char **bad = (bad_field != NULL) ? bad_field : &dummy;
+    *bad = "";
+    if (out == NULL) {
+        *bad = "out";
+        return SS_ERR_NULL;
+    }
+    return friction_to_q(in, 0, out, bad);
+}
+
+/* Exact flow of M e'' + c e' + k e = 0 over dt on (e, e'), in double: the float family's
+ * rod_flow, with s(t) = sin(w t)/w, sinh(w t)/w or t. */
+static void rod_flow(double k, double c, double m, double dt, double phi[4])
+{
+    const double wn2 = k / m;
+    const double sigma = 0.5 * c / m;
+    const double wd2 = wn2 - sigma * sigma;
+    double co = 1.0;
+    double si = dt;
+    if (wd2 > 0.0) {
+        const double wd = sqrt(wd2);
+        co = cos(wd * dt);
+        si = sin(wd * dt) / wd;
+    } else if (wd2 < 0.0) {
+        const double w = sqrt(-wd2);
+        co = cosh(w * dt);
+        si = sinh(w * dt) / w;
+    }
+    const double e = exp(-sigma * dt);
+    phi[0] = e * (co + sigma * si);
+    phi[1] = e * si;
+    phi[2] = -e * wn2 * si;
+    phi[3] = e * (co - sigma * si);
+}
+
+ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actuator_config_q_t *out,
+                                    const char **bad_field)
+{
+    const char *dummy = "";
+    const char **bad = (bad_field != NULL) ? bad_field : &dummy;
+    ss_status_t st = ss_actuator_config_check_f32(in, bad);
+    if (st != SS_OK) {
+        return st;
+    }
+    if (out == NULL) {
+        *bad = "out";
+        return SS_ERR_NULL;
+    }
+    const double i32max = 2147483647.0;
+    int64_t v = 0;
+    /* everything below uses the step the q family actually takes, dt_q40 2^-40 s */
+    if (!to_int((double)in->dt_s * 1099511627776.0, 1100.0, i32max, &v)) {
+        *bad = "dt_s";
+        return SS_ERR_RANGE;
+    }
+    out->dt_q40 = (int32_t)v;
+    const double dt = (double)v * SS_Q40_M;
+    if (!to_int((double)in->piezo_gain_m_per_v * 281474976710656.0, -i32max, i32max, &v) || v == 0) {
+        *bad = "piezo_gain_m_per_v";
+        return SS_ERR_RANGE;
+    }
+    out->piezo_gain_q48 = (int32_t)v;
+    const double k = (double)in->piezo_stiffness_n_per_m;
+    const double c = (double)in->piezo_damping_kg_per_s;
+    if (!to_int(c / (k * dt) * 16777216.0, 0.0, i32max, &v)) {
+        *bad = "piezo_damping_kg_per_s";
+        return SS_ERR_RANGE;
+    }
+    out->lag_q24 = (int32_t)v;
+    if (!to_int(dt / (2.0 * (double)in->rod_mass_kg) * 1099511627776.0, 1.0, i32max, &v)) {
+        *bad = "rod_mass_kg";
+        return SS_ERR_RANGE;
+    }
+    out->kick_rod_q40 = (int32_t)v;
+    if (!to_int(dt / (2.0 * (double)in->slider_mass_kg) * 1099511627776.0, 1.0, i32max, &v)) {
+        *bad = "slider_mass_kg";
+        return SS_ERR_RANGE;
+    }
+    out->kick_slider_q40 = (int32_t)v;
+    double phi[4];
+    rod_flow(k, c, (double)in->rod_mass_kg, dt, phi);
+    const double scaled[4] = {phi[0], phi[1] / dt, phi[2] * dt, phi[3]};
+    for (int i = 0; i < 4; ++i) {
+        if (!to_int(scaled[i] * 268435456.0, -i32max, i32max, &v)) {
+            *bad = "piezo_stiffness_n_per_m"; /* the rod mode is too fast for the step */
+            return SS_ERR_RANGE;
+        }
+        out->phi_q28[i] = (int32_t)v;
+    }
+    out->friction_model = in->friction_model;
+    st = friction_to_q(&in->friction, 1, &out->friction, bad);
+    if (st == SS_OK) {
+        st = ss_actuator_config_check_q(out, NULL);
+    }
+    return st;
+}
+
+int32_t ss_volts_to_q16(double v)
+{
+    const double r = floor(v * 65536.0 + 0.5);
+    if (!(r == r)) {
+        return 0;
+    }
+    if (r >= 2147483647.0) {
+        return INT32_MAX;
+    }
+    if (r <= -2147483648.0) {
+        return INT32_MIN;
+    }
+    return (int32_t)r;
+}
+
+ss_status_t ss_waveform_config_to_q(const ss_waveform_config_f32_t *in, ss_waveform_config_q_t *out,
+                                    const char **bad_field)
+{
+    const char *dummy = "";
+    const char **bad = (bad_field != NULL) ? bad_field : &dummy;
+    *bad = "";
+    if (in == NULL || out == NULL) {
+        *bad = (in == NULL) ? "config" : "out";
+        return SS_ERR_NULL;
+    }
+    const double i32max = 2147483647.0;
+    int64_t v[4] = {0, 0, 0, 0};
+    if (in->kind != SS_WAVE_SAWTOOTH) {
+        *bad = "kind";
+        return SS_ERR_RANGE;
+    }
+    const float vals[4] = {in->frequency_hz, in->amplitude_v, in->offset_v, in->rise_fraction};
+    static const char *const names[4] = {"frequency_hz", "amplitude_v", "offset_v", "rise_fraction"};
+    const int ok[4] = {
+        to_int((double)in->frequency_hz * 1000.0, 1.0, 4294967295.0, &v[0]),
+        to_int((double)in->amplitude_v * 65536.0, -i32max, i32max, &v[1]),
+        to_int((double)in->offset_v * 65536.0, -i32max, i32max, &v[2]),
+        to_int((double)in->rise_fraction * 4294967296.0, 1.0, 4294967295.0, &v[3]),
+    };
+    for (int i = 0; i < 4; ++i) {
+        if (!isfinite(vals[i])) {
+            *bad = names[i];
+            return SS_ERR_NONFINITE;
+        }
+        if (!ok[i]) {
+            *bad = names[i];
+            return SS_ERR_RANGE;
+        }
+    }
+    if (in->direction != 1 && in->direction != -1) {
+        *bad = "direction";
+        return SS_ERR_RANGE;
+    }
+    *out = ss_waveform_sawtooth_q((uint32_t)v[0], (int32_t)v[1], (int32_t)v[2], (uint32_t)v[3], in->direction,
+                                  in->cycles);
+    return SS_OK;
+}
+
+void ss_actuator_state_q_to_si(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
+                               ss_actuator_si_t *out)
+{
+    const int lugre = (cfg->friction_model == SS_FRICTION_Q_LUGRE);
+    out->x_rod_m = st->x_rod_q40 * SS_Q40_M;
+    out->v_rod_m_per_s = st->v_rod_q28 * SS_Q28_M_PER_S;
+    out->x_slider_m = (double)st->x_slider_q40 * SS_Q40_M;
+    out->v_slider_m_per_s = st->v_slider_q28 * SS_Q28_M_PER_S;
+    out->x_p_m = st->x_p_q40 * SS_Q40_M;
+    out->drive_v = st->drive_q16 * SS_Q16;
+    out->force_n = st->force_q24 * SS_Q24_N;
+    out->state_a = lugre ? st->fr.lugre.z_q40 * SS_Q40_M : st->fr.ls.level_q24 * SS_Q24_N;
+    out->state_b = lugre ? st->fr.lugre.zdot_q28 * SS_Q28_M_PER_S : st->fr.ls.fm_q24 * SS_Q24_N;
+    out->steps = st->steps;
+}

@@ -1,0 +1,94 @@
+#include "ss_friction_q.h"
+
+#include <stddef.h>
+
+#include "ss_fixed_ops.h"
+
+/* Beyond r = v/vs = 256 (r^2 = 65536) exp(-r^2) is zero in Q30; the clamp also bounds r^2. */
+#define SS_Q_STRIBECK_R_MAX_Q16 ((int64_t)256 << 16)
+
+ss_friction_config_q_t ss_friction_config_table1_q(void)
+{
+    /* round(x * 2^k) of the float Table I values (0.36 * 10 N, 0.30 * 10 N, 0.4 mm/s, ...) */
+    ss_friction_config_q_t cfg;
+    cfg.fs_q24 = 60397980; /* 3.6000001 N (float 0.36f * 10.0f) */
+    cfg.fc_q24 = 50331648; /* 3.0 N */
+    cfg.vs_q28 = 107374;   /* 0.4e-3 m/s */
+    cfg.sigma0_n_per_m = 10000000;
+    cfg.sigma1_q16 = 5242880; /* 80 N s/m */
+    cfg.sigma2_q16 = 524288;  /* 8 N s/m */
+    return cfg;
+}
+
+static const char *const FIELD_NAMES_Q[2][6] = {
+    {"fs_q24", "fc_q24", "vs_q28", "sigma0_n_per_m", "sigma1_q16", "sigma2_q16"},
+    {"friction.fs_q24", "friction.fc_q24", "friction.vs_q28", "friction.sigma0_n_per_m",
+     "friction.sigma1_q16", "friction.sigma2_q16"},
+};
+
+ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, int prefixed,
+                                             const char **bad_field)
+{
+    *bad_field = "";
+    if (cfg == NULL) {
+        *bad_field = "config";
+        return SS_ERR_NULL;
+    }
+    const char *const *names = FIELD_NAMES_Q[prefixed ? 1 : 0];
+    int bad = -1;
+    if (cfg->fs_q24 <= 0 || cfg->fs_q24 > SS_Q_FS_MAX_Q24) {
+        bad = 0;
+    } else if (cfg->fc_q24 > cfg->fs_q24 || (int64_t)cfg->fc_q24 * SS_Q_FS_OVER_FC_MAX < cfg->fs_q24) {
+        bad = 1; /* Fc above Fs would make the Stribeck curve rise; s/g <= Fs/Fc must fit */
+    } else if (cfg->vs_q28 <= 0) {
+        bad = 2;
+    } else if (cfg->sigma0_n_per_m <= 0 ||
+               (int64_t)24 * cfg->fs_q24 * 65536 > SS_Q_SAT_LENGTH_MAX_Q40 * cfg->sigma0_n_per_m) {
+        bad = 3; /* the presliding length must fit the element's local frame */
+    } else if (cfg->sigma1_q16 < 0) {
+        bad = 4;
+    } else if (cfg->sigma2_q16 < 0) {
+        bad = 5;
+    }
+    if (bad >= 0) {
+        *bad_field = names[bad];
+        return SS_ERR_RANGE;
+    }
+    return SS_OK;
+}
+
+ss_status_t ss_friction_config_check_q(const ss_friction_config_q_t *cfg, const char **bad_field)
+{
+    const char *dummy = "";
+    return ss_friction_config_check_named_q(cfg, 0, (bad_field != NULL) ? bad_field : &dummy);
+}
+
+/* r = |v| / vs in Q16.16, clamped where exp(-r^2) is zero anyway. */
+static int64_t stribeck_ratio_q16(const ss_friction_config_q_t *cfg, int32_t v_q28)
+{
+    const int64_t r = ss_div_round(ss_abs64(v_q28) * 65536, cfg->vs_q28);
+    return (r > SS_Q_STRIBECK_R_MAX_Q16) ? SS_Q_STRIBECK_R_MAX_Q16 : r;
+}
+
+int32_t ss_stribeck_q(const ss_friction_config_q_t *cfg, int32_t v_q28)
+{
+    if (v_q28 == 0) {
+        return cfg->fs_q24;
+    }
+    const int64_t r = stribeck_ratio_q16(cfg, v_q28);
+    const int64_t e = ss_exp_neg_q32_q30((uint64_t)(r * r)); /* r^2 in Q32, exact */
+    return (int32_t)(cfg->fc_q24 + ss_shr_round((int64_t)(cfg->fs_q24 - cfg->fc_q24) * e, 30));
+}
+
+int32_t ss_stribeck_slope_q(const ss_friction_config_q_t *cfg, int32_t v_q28)
+{
+    if (v_q28 == 0) {
+        return 0;
+    }
+    const int64_t r = stribeck_ratio_q16(cfg, v_q28);
+    const int64_t e = ss_exp_neg_q32_q30((uint64_t)(r * r));
+    /* (Fs - Fc) r e in N at 2^-24, then 2 x that / vs: N/(m/s) at 2^-16 is x 2^20 / vs_q28 */
+    const int64_t fre = ss_shr_round(ss_shr_round((int64_t)(cfg->fs_q24 - cfg->fc_q24) * e, 30) * r, 16);
+    const int64_t slope = ss_div_round(fre * 2 * ((int64_t)1 << 20), cfg->vs_q28);
+    return ss_sat32((v_q28 > 0) ? -slope : slope);
+}

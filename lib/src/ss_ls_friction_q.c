@@ -1,0 +1,199 @@
+#include "ss_ls_friction_q.h"
+
+#include <stddef.h>
+
+#include "ss_fixed_ops.h"
+
+/* Presliding lengths Fs/sigma0 after which the virgin curve is Fs exactly in Q30 (exp(-24) is
+ * 0.04 LSB), so the frame re-bases without changing any force (the float family's constant). */
+#define SS_LS_Q_SATURATION_LENGTHS 24
+
+/* sigma0 |dx| / den (den a force at 2^-24 N) as the Q32 exponent of ss_exp_neg_q32_q30. */
+static uint64_t exponent_q32(const ss_friction_config_q_t *cfg, int64_t dx_q40, int64_t den_q24)
+{
+    /* |dx| < 2^32 and sigma0 < 2^31: the product fits */
+    return ss_ratio_x65536((uint64_t)cfg->sigma0_n_per_m * (uint64_t)ss_abs64(dx_q40), (uint64_t)den_q24);
+}
+
+/* Smooth step from 0 (|F_M| <= 0.9 Fs) to 1 (at Fs) in Q30: only gross slip drives the LuGre part.
+ * The threshold is compared exactly (10 |F_M| <= 9 Fs), so presliding below it is bit-exact
+ * rate independent. */
+static int64_t breakaway_gate_q30(const ss_friction_config_q_t *cfg, int32_t fm_q24)
+{
+    const int64_t over = 10 * ss_abs64(fm_q24) - 9 * (int64_t)cfg->fs_q24;
+    if (over <= 0) {
+        return 0;
+    }
+    if (over >= cfg->fs_q24) {
+        return SS_Q30_ONE;
+    }
+    const int64_t t = ss_div_round(over * SS_Q30_ONE, cfg->fs_q24);
+    const int64_t t2 = ss_shr_round(t * t, 30);
+    return ss_shr_round(t2 * (3 * (int64_t)SS_Q30_ONE - 2 * t), 30);
+}
+
+ss_status_t ss_ls_init_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
+{
+    if (st == NULL) {
+        return SS_ERR_NULL;
+    }
+    const ss_status_t status = ss_friction_config_check_q(cfg, NULL);
+    if (status != SS_OK) {
+        return status;
+    }
+    st->x_q40 = 0;
+    st->x0_q40 = 0;
+    st->fm_q24 = 0;
+    st->kt_q30 = SS_Q30_ONE;
+    st->level_q24 = cfg->fs_q24;
+    st->force_q24 = 0;
+    st->dir = 0;
+    st->depth = 0;
+    for (int i = 0; i < SS_LS_Q_MEMORY_DEPTH; ++i) {
+        st->rev[i].x_q40 = 0;
+        st->rev[i].f_q24 = 0;
+    }
+    return SS_OK;
+}
+
+static void push_reversal(ss_ls_state_q_t *st)
+{
+    if (st->depth >= SS_LS_Q_MEMORY_DEPTH) {
+        st->depth = (uint8_t)(st->depth - 2u); /* forget the innermost minor loop */
+    }
+    st->rev[st->depth].x_q40 = st->x_q40;
+    st->rev[st->depth].f_q24 = st->fm_q24;
+    st->depth++;
+}
+
+/* Wiping-out, as in the float family: a branch that reaches the reversal point where the opposite
+ * branch began closes that minor loop. */
+static void close_loops(ss_ls_state_q_t *st)
+{
+    const int64_t d = (st->dir > 0) ? 1 : -1; /* dir is +-1 here: set by the step that called us */
+    for (;;) {
+        if (st->depth >= 2u && d * ((int64_t)st->x_q40 - st->rev[st->depth - 2u].x_q40) >= 0) {
+            st->depth = (uint8_t)(st->depth - 2u);
+        } else if (st->depth == 1u &&
+                   d * ((int64_t)st->x_q40 - (2 * (int64_t)st->x0_q40 - st->rev[0].x_q40)) >= 0) {
+            st->depth = 0u;
+        } else {
+            return;
+        }
+    }
+}
+
+/* Masing branches of phi(u) = Fs (1 - exp(-sigma0 u / Fs)). */
+static void eval_branch(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
+{
+    const int64_t fs = cfg->fs_q24;
+    if (st->depth == 0u) {
+        const int64_t u = (int64_t)st->x_q40 - st->x0_q40;
+        const int64_t e = ss_exp_neg_q32_q30(exponent_q32(cfg, u, fs));
+        st->fm_q24 = (int32_t)(ss_sign32(u) * ss_shr_round(fs * (SS_Q30_ONE - e), 30));
+        st->kt_q30 = (int32_t)e;
+    } else {
+        const ss_ls_reversal_q_t *r = &st->rev[st->depth - 1u];
+        const int64_t e = ss_exp_neg_q32_q30(exponent_q32(cfg, (int64_t)st->x_q40 - r->x_q40, 2 * fs));
+        const int64_t fm = r->f_q24 + ((st->dir > 0) ? 1 : -1) * ss_shr_round(2 * fs * (SS_Q30_ONE - e), 30);
+        st->fm_q24 = (int32_t)ss_clamp64(fm, -fs, fs); /* rounding must not push |F_M| past Fs */
+        st->kt_q30 = (int32_t)e;
+    }
+}
+
+static void rebase(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
+{
+    if (st->depth != 0u) {
+        return; /* reversal points bound the excursion */
+    }
+    const int64_t u = (int64_t)st->x_q40 - st->x0_q40;
+    const int64_t l_sat = SS_LS_Q_SATURATION_LENGTHS * (int64_t)cfg->fs_q24 * 65536 / cfg->sigma0_n_per_m;
+    if (ss_abs64(u) > l_sat) {
+        st->x0_q40 = (int32_t)(-ss_sign32(u) * l_sat);
+        st->x_q40 = 0;
+    }
+}
+
+void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int32_t dx_q40, int32_t dt_q40)
+{
+    if (dt_q40 <= 0) {
+        return;
+    }
+    const int32_t fm_old = st->fm_q24;
+    if (dx_q40 != 0) {
+        const int8_t d = (dx_q40 > 0) ? (int8_t)1 : (int8_t)-1;
+        if (st->dir != 0 && d != st->dir) {
+            push_reversal(st);
+        }
+        st->dir = d;
+        st->x_q40 = ss_sat32((int64_t)st->x_q40 + dx_q40);
+        close_loops(st);
+        eval_branch(cfg, st);
+        rebase(cfg, st);
+    }
+    /* elastic-plastic split: dF_M / sigma0 in m at 2^-40 is dF_M [2^-24 N] x 2^16 / sigma0 */
+    int64_t slip = dx_q40 - ss_div_round(((int64_t)st->fm_q24 - fm_old) * 65536, cfg->sigma0_n_per_m);
+    if ((slip > 0 && dx_q40 < 0) || (slip < 0 && dx_q40 > 0)) {
+        slip = 0; /* rounding only: the tangent stiffness never exceeds sigma0 */
+    }
+    slip = ss_shr_round(slip * breakaway_gate_q30(cfg, st->fm_q24), 30);
+    if (slip == 0) {
+        return; /* no gross slip: the level keeps its value (exp(0) = 1) */
+    }
+    /* LuGre in the slip, exact for a slip velocity frozen over the step */
+    const int32_t v_slip = ss_sat32(ss_div_round(slip * ((int64_t)1 << 28), dt_q40));
+    const int64_t g = ss_stribeck_q(cfg, v_slip);
+    const int64_t decay = ss_exp_neg_q32_q30(exponent_q32(cfg, slip, g));
+    st->level_q24 = (int32_t)(g + ss_shr_round(((int64_t)st->level_q24 - g) * decay, 30));
+}
+
+int32_t ss_ls_step_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int32_t dx_q40, int32_t dt_q40)
+{
+    if (dt_q40 <= 0) {
+        return st->force_q24;
+    }
+    ss_ls_advance_q(cfg, st, dx_q40, dt_q40);
+    const int32_t v = ss_sat32(ss_div_round((int64_t)dx_q40 * ((int64_t)1 << 28), dt_q40));
+    st->force_q24 = ss_ls_force_at_q(cfg, st, v, NULL);
+    return st->force_q24;
+}
+
+int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_t *st, int32_t v_q28,
+                         int32_t *dfdv_q16)
+{
+    /* gross-slip share of v: (1 - kt/sigma0) alpha, Q30 */
+    const int64_t share =
+        ss_shr_round((SS_Q30_ONE - (int64_t)st->kt_q30) * breakaway_gate_q30(cfg, st->fm_q24), 30);
+    const int32_t vp = (int32_t)ss_shr_round((int64_t)v_q28 * share, 30);
+    const int64_t g = ss_stribeck_q(cfg, vp);
+    const int64_t ratio = ss_div_round((int64_t)st->level_q24 * SS_Q30_ONE, g); /* s / g, Q30 */
+    const int64_t one_m = SS_Q30_ONE - ratio;
+    const int64_t zdot = ss_shr_round(vp * one_m, 30); /* m/s at 2^-28 */
+    if (dfdv_q16 != NULL) {
+        /* d(dz/dt)/dvp = (1 - s/g) + vp s g' / g^2; vp g' / g is a pure number at 2^-20 */
+        const int64_t vg = ss_div_round((int64_t)vp * ss_stribeck_slope_q(cfg, vp), g);
+        const int64_t dzdvp = one_m + ss_shr_round(ratio * vg, 20);
+        const int64_t s1 = ss_shr_round((int64_t)cfg->sigma1_q16 * share, 30);
+        *dfdv_q16 = ss_sat32(ss_shr_round(s1 * dzdvp, 30) + cfg->sigma2_q16);
+    }
+    /* (s / Fs) F_M + sigma1 dz/dt + sigma2 v; Q16 N s/m times 2^-28 m/s is N at 2^-44 */
+    const int64_t f = ss_div_round((int64_t)st->level_q24 * st->fm_q24, cfg->fs_q24) +
+                      ss_shr_round((int64_t)cfg->sigma1_q16 * zdot, 20) +
+                      ss_shr_round((int64_t)cfg->sigma2_q16 * v_q28, 20);
+    return ss_sat32(f);
+}
+
+ss_status_t ss_ls_run_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, const int32_t *dx_q40,
+                        uint32_t n, int32_t dt_q40, int32_t *force_q24)
+{
+    if (cfg == NULL || st == NULL || (n > 0u && (dx_q40 == NULL || force_q24 == NULL))) {
+        return SS_ERR_NULL;
+    }
+    if (dt_q40 <= 0) {
+        return SS_ERR_RANGE;
+    }
+    for (uint32_t i = 0; i < n; ++i) {
+        force_q24[i] = ss_ls_step_q(cfg, st, dx_q40[i], dt_q40);
+    }
+    return SS_OK;
+}

@@ -1,0 +1,101 @@
+#include "ss_lugre_q.h"
+
+#include <stddef.h>
+
+#include "ss_fixed_ops.h"
+
+/* |sigma0 z| (N at 2^-40) is at most about Fs; clamping it at 256 N keeps every product below
+ * 2^63 whatever the state holds. */
+#define SS_LUGRE_Q_SZ_MAX ((int64_t)1 << 48)
+
+ss_status_t ss_lugre_init_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st)
+{
+    if (st == NULL) {
+        return SS_ERR_NULL;
+    }
+    const ss_status_t status = ss_friction_config_check_q(cfg, NULL);
+    if (status != SS_OK) {
+        return status;
+    }
+    st->z_q40 = 0;
+    st->zdot_q28 = 0;
+    st->force_q24 = 0;
+    return SS_OK;
+}
+
+static int32_t velocity_q28(int32_t dx_q40, int32_t dt_q40)
+{
+    return ss_sat32(ss_div_round((int64_t)dx_q40 * ((int64_t)1 << 28), dt_q40));
+}
+
+/* sigma0 z / g in Q30 (z in m at 2^-40, g in N at 2^-24: sigma0 z is N at 2^-40). */
+static int64_t bristle_ratio_q30(const ss_friction_config_q_t *cfg, const ss_lugre_state_q_t *st, int64_t g)
+{
+    const int64_t sz =
+        ss_clamp64((int64_t)cfg->sigma0_n_per_m * st->z_q40, -SS_LUGRE_Q_SZ_MAX, SS_LUGRE_Q_SZ_MAX);
+    return ss_div_round(sz * ((int64_t)1 << 14), g);
+}
+
+void ss_lugre_advance_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, int32_t dx_q40,
+                        int32_t dt_q40)
+{
+    if (dt_q40 <= 0 || dx_q40 == 0) {
+        return;
+    }
+    /* z relaxes to sgn(v) g / sigma0 over the distance g / sigma0: exact for v frozen over the step */
+    const int32_t v = velocity_q28(dx_q40, dt_q40);
+    const int64_t g = ss_stribeck_q(cfg, v);
+    const int64_t z_ss = ss_sign32(dx_q40) * ss_div_round(g * 65536, cfg->sigma0_n_per_m);
+    /* exponent sigma0 |dx| / g with 32 fraction bits, as in the LS element */
+    const uint64_t num = (uint64_t)cfg->sigma0_n_per_m * (uint64_t)ss_abs64(dx_q40);
+    const int64_t decay = ss_exp_neg_q32_q30(ss_ratio_x65536(num, (uint64_t)g));
+    st->z_q40 = ss_sat32(z_ss + ss_shr_round(((int64_t)st->z_q40 - z_ss) * decay, 30));
+}
+
+int32_t ss_lugre_step_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, int32_t dx_q40,
+                        int32_t dt_q40)
+{
+    if (dt_q40 <= 0) {
+        return st->force_q24;
+    }
+    ss_lugre_advance_q(cfg, st, dx_q40, dt_q40);
+    const int32_t v = velocity_q28(dx_q40, dt_q40);
+    const int64_t k = bristle_ratio_q30(cfg, st, ss_stribeck_q(cfg, v));
+    st->zdot_q28 = ss_sat32(v - ss_shr_round(ss_abs64(v) * k, 30));
+    st->force_q24 = ss_lugre_force_at_q(cfg, st, v, NULL);
+    return st->force_q24;
+}
+
+int32_t ss_lugre_force_at_q(const ss_friction_config_q_t *cfg, const ss_lugre_state_q_t *st, int32_t v_q28,
+                            int32_t *dfdv_q16)
+{
+    const int64_t v = v_q28;
+    const int64_t g = ss_stribeck_q(cfg, v_q28);
+    const int64_t k = bristle_ratio_q30(cfg, st, g);
+    const int64_t zdot = v - ss_shr_round(ss_abs64(v) * k, 30);
+    if (dfdv_q16 != NULL) {
+        /* d(dz/dt)/dv = 1 - sgn(v) sigma0 z / g + |v| (sigma0 z / g) g' / g; |v| g'/g at 2^-20 */
+        const int64_t vg = ss_div_round(ss_abs64(v) * ss_stribeck_slope_q(cfg, v_q28), g);
+        const int64_t dzdv = SS_Q30_ONE - ss_sign32(v) * k + ss_shr_round(k * vg, 20);
+        *dfdv_q16 = ss_sat32(ss_shr_round((int64_t)cfg->sigma1_q16 * dzdv, 30) + cfg->sigma2_q16);
+    }
+    const int64_t sz =
+        ss_clamp64((int64_t)cfg->sigma0_n_per_m * st->z_q40, -SS_LUGRE_Q_SZ_MAX, SS_LUGRE_Q_SZ_MAX);
+    return ss_sat32(ss_shr_round(sz, 16) + ss_shr_round((int64_t)cfg->sigma1_q16 * zdot, 20) +
+                    ss_shr_round((int64_t)cfg->sigma2_q16 * v, 20));
+}
+
+ss_status_t ss_lugre_run_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, const int32_t *dx_q40,
+                           uint32_t n, int32_t dt_q40, int32_t *force_q24)
+{
+    if (cfg == NULL || st == NULL || (n > 0u && (dx_q40 == NULL || force_q24 == NULL))) {
+        return SS_ERR_NULL;
+    }
+    if (dt_q40 <= 0) {
+        return SS_ERR_RANGE;
+    }
+    for (uint32_t i = 0; i < n; ++i) {
+        force_q24[i] = ss_lugre_step_q(cfg, st, dx_q40[i], dt_q40);
+    }
+    return SS_OK;
+}

@@ -1,0 +1,84 @@
+#include "ss_waveform_q.h"
+
+#include <stddef.h>
+
+#include "ss_fixed_ops.h"
+
+ss_waveform_config_q_t ss_waveform_sawtooth_q(uint32_t frequency_mhz, int32_t amplitude_q16,
+                                              int32_t offset_q16, uint32_t rise_q32, int32_t direction,
+                                              uint32_t cycles)
+{
+    ss_waveform_config_q_t cfg;
+    cfg.frequency_mhz = frequency_mhz;
+    cfg.amplitude_q16 = amplitude_q16;
+    cfg.offset_q16 = offset_q16;
+    cfg.rise_q32 = rise_q32;
+    cfg.direction = direction;
+    cfg.cycles = cycles;
+    return cfg;
+}
+
+ss_status_t ss_waveform_init_q(const ss_waveform_config_q_t *cfg, int32_t dt_q40, ss_waveform_state_q_t *st)
+{
+    if (cfg == NULL || st == NULL) {
+        return SS_ERR_NULL;
+    }
+    if (dt_q40 <= 0 || cfg->frequency_mhz == 0u || cfg->rise_q32 == 0u ||
+        (cfg->direction != 1 && cfg->direction != -1)) {
+        return SS_ERR_RANGE;
+    }
+    /* f dt 2^64 = (f_mHz dt_q40 / 1000) 2^24; f_mHz dt_q40 < 2^63 */
+    const uint64_t x = (uint64_t)cfg->frequency_mhz * (uint64_t)dt_q40;
+    const uint64_t whole = x / 1000u;
+    if (whole >= ((uint64_t)1 << 40)) {
+        return SS_ERR_RANGE; /* f dt >= 1: a period no longer than a step */
+    }
+    st->step_q64 = (whole << 24) + (((x % 1000u) << 24) + 500u) / 1000u;
+    st->phase_q64 = 0u;
+    st->index = 0u;
+    st->pad = 0u;
+    return SS_OK;
+}
+
+int32_t ss_sawtooth_at_phase_q(const ss_waveform_config_q_t *cfg, uint32_t phase_q32)
+{
+    const uint64_t one = (uint64_t)1 << 32;
+    const uint64_t r = cfg->rise_q32;
+    /* direction -1 plays the period reversed in time */
+    const uint64_t p = (cfg->direction < 0) ? one - phase_q32 : phase_q32;
+    const uint64_t a = (uint64_t)ss_abs64(cfg->amplitude_q16); /* |A| p < 2^63 */
+    const uint64_t num = (p < r) ? a * p : a * (one - p);
+    const uint64_t den = (p < r) ? r : one - r;
+    const int64_t mag = (int64_t)((num + den / 2u) / den);
+    return ss_sat32((int64_t)cfg->offset_q16 + ((cfg->amplitude_q16 < 0) ? -mag : mag));
+}
+
+int32_t ss_waveform_value_q(const ss_waveform_config_q_t *cfg, const ss_waveform_state_q_t *st)
+{
+    if (st->index >= cfg->cycles) {
+        return cfg->offset_q16;
+    }
+    return ss_sawtooth_at_phase_q(cfg, (uint32_t)(st->phase_q64 >> 32));
+}
+
+void ss_waveform_advance_q(ss_waveform_state_q_t *st)
+{
+    const uint64_t before = st->phase_q64;
+    st->phase_q64 += st->step_q64; /* unsigned: wraps modulo 2^64, which is the period boundary */
+    if (st->phase_q64 < before && st->index < UINT32_MAX) {
+        st->index++;
+    }
+}
+
+ss_status_t ss_waveform_fill_q(const ss_waveform_config_q_t *cfg, ss_waveform_state_q_t *st, int32_t *out_q16,
+                               uint32_t n)
+{
+    if (cfg == NULL || st == NULL || (n > 0u && out_q16 == NULL)) {
+        return SS_ERR_NULL;
+    }
+    for (uint32_t i = 0; i < n; ++i) {
+        ss_waveform_advance_q(st);
+        out_q16[i] = ss_waveform_value_q(cfg, st);
+    }
+    return SS_OK;
+}

@@ -1,0 +1,597 @@
+/* The fixed-point (_q) model against the float core: converter, friction properties, actuator
+ * accuracy over the paper's drives (tests/vectors/fixed_model_drives.csv), long travel. */
+#include "ss_test.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ss_abi.h"
+#include "ss_convert_q.h"
+
+#define Q40 1099511627776.0 /* 2^40 */
+#define Q24 16777216.0      /* 2^24 */
+
+static const ss_friction_config_q_t *fq_table1(void)
+{
+    static ss_friction_config_q_t c;
+    c = ss_friction_config_table1_q();
+    return &c;
+}
+
+/* ---- converter and constants ---------------------------------------------------------------- */
+
+/* table1_q is pure integer constants; they must be exactly what the converter makes of the float
+ * Table I, or the two families would simulate different actuators. */
+static void test_table1_constants_match_converter(void **unused)
+{
+    (void)unused;
+    const ss_actuator_config_f32_t f = ss_actuator_config_table1_f32();
+    ss_actuator_config_q_t conv;
+    memset(&conv, 0, sizeof conv);
+    const char *bad = NULL;
+    assert_int_equal(ss_actuator_config_to_q(&f, &conv, &bad), SS_OK);
+    assert_string_equal(bad, "");
+    ss_actuator_config_q_t tab = ss_actuator_config_table1_q();
+    assert_memory_equal(&conv, &tab, sizeof conv);
+    ss_friction_config_q_t fr;
+    assert_int_equal(ss_friction_config_to_q(&f.friction, &fr, NULL), SS_OK);
+    assert_memory_equal(&fr, fq_table1(), sizeof fr);
+    assert_int_equal(ss_actuator_config_check_q(&tab, &bad), SS_OK);
+}
+
+/* Values that pass the float check but do not fit a Q format are rejected, and named. */
+static void test_converter_names_bad_fields(void **unused)
+{
+    (void)unused;
+    const ss_actuator_config_f32_t ok = ss_actuator_config_table1_f32();
+    ss_actuator_config_q_t q;
+    const char *bad = NULL;
+    struct {
+        float *field;
+        float value;
+        const char *name;
+        ss_status_t status;
+    } cases[7];
+    ss_actuator_config_f32_t c = ok;
+    cases[0].field = &c.friction.fs_n, cases[0].value = 100.0f, cases[0].name = "friction.fs_n";
+    cases[1].field = &c.friction.vs_m_per_s, cases[1].value = 1e-9f, cases[1].name = "friction.vs_m_per_s";
+    cases[2].field = &c.rod_mass_kg, cases[2].value = 1e-6f, cases[2].name = "rod_mass_kg";
+    cases[3].field = &c.dt_s, cases[3].value = 5e-3f, cases[3].name = "dt_s"; /* float check: > 1e-3 */
+    cases[4].field = &c.piezo_gain_m_per_v, cases[4].value = 1e-4f, cases[4].name = "piezo_gain_m_per_v";
+    cases[5].field = &c.friction.sigma0_n_per_m, cases[5].value = 1e3f,
+    cases[5].name = "friction.sigma0_n_per_m";
+    cases[6].field = &c.friction.fc_n, cases[6].value = 0.01f, cases[6].name = "friction.fc_n";
+    for (int i = 0; i < 7; ++i) {
+        c = ok;
+        *cases[i].field = cases[i].value;
+        assert_int_not_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_OK);
+        assert_string_equal(bad, cases[i].name);
+    }
+    c = ok;
+    c.friction.sigma1_ns_per_m = NAN;
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_NONFINITE);
+    assert_string_equal(bad, "friction.sigma1_ns_per_m");
+    /* the q check names q fields */
+    ss_actuator_config_q_t t = ss_actuator_config_table1_q();
+    t.friction.fc_q24 = t.friction.fs_q24 + 1;
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.fc_q24");
+    t = ss_actuator_config_table1_q();
+    t.kick_slider_q40 = 0;
+    ss_actuator_state_q_t st;
+    assert_int_equal(ss_actuator_init_q(&t, &st, 0), SS_ERR_RANGE);
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "kick_slider_q40");
+    assert_int_equal(ss_actuator_config_check_q(NULL, &bad), SS_ERR_NULL);
+    /* waveform */
+    ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, 3);
+    ss_waveform_config_q_t wq;
+    assert_int_equal(ss_waveform_config_to_q(&w, &wq, &bad), SS_OK);
+    assert_int_equal(wq.frequency_mhz, 500000u);
+    assert_int_equal(wq.amplitude_q16, 100 << 16);
+    w.amplitude_v = 40000.0f;
+    assert_int_equal(ss_waveform_config_to_q(&w, &wq, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "amplitude_v");
+}
+
+/* ---- friction element: float and q side by side -------------------------------------------- */
+
+typedef struct {
+    ss_friction_config_f32_t cf;
+    ss_friction_config_q_t cq;
+    ss_ls_state_f32_t sf;
+    ss_ls_state_q_t sq;
+    double x;     /* exact path position, m */
+    int64_t x_q;  /* round(x 2^40), so the q increments sum to the path without drift */
+    float f_f32;  /* last forces */
+    double f_q_n; /* in N */
+} pair_t;
+
+static void pair_init(pair_t *p, double sigma2)
+{
+    p->cf = ss_friction_config_table1_f32();
+    p->cf.sigma2_ns_per_m = (float)sigma2;
+    assert_int_equal(ss_friction_config_to_q(&p->cf, &p->cq, NULL), SS_OK);
+    assert_int_equal(ss_ls_init_f32(&p->cf, &p->sf), SS_OK);
+    assert_int_equal(ss_ls_init_q(&p->cq, &p->sq), SS_OK);
+    p->x = 0.0;
+    p->x_q = 0;
+    p->f_f32 = 0.0f;
+    p->f_q_n = 0.0;
+}
+
+/* Move both to x_to in increments of at most h at speed v; returns the worst |F_q - F_f32| (N). */
+static double pair_move(pair_t *p, double x_to, double h, double v)
+{
+    double worst = 0.0;
+    const int32_t dt_q = (int32_t)floor(h / v * Q40 + 0.5);
+    while (fabs(x_to - p->x) > 1e-15) {
+        double dx = x_to - p->x;
+        if (fabs(dx) > h) {
+            dx = (dx > 0) ? h : -h;
+        }
+        p->x += dx;
+        const int64_t xq = (int64_t)floor(p->x * Q40 + 0.5);
+        const int32_t dtq = (fabs(dx) < h) ? (int32_t)floor(fabs(dx) / v * Q40 + 0.5) + 1 : dt_q;
+        p->f_f32 = ss_ls_step_f32(&p->cf, &p->sf, (float)dx, (float)(fabs(dx) / v));
+        p->f_q_n = ss_ls_step_q(&p->cq, &p->sq, (int32_t)(xq - p->x_q), dtq) / Q24;
+        p->x_q = xq;
+        const double d = fabs(p->f_q_n - (double)p->f_f32);
+        worst = d > worst ? d : worst;
+    }
+    return worst;
+}
+
+/* Read a one-column CSV of numbers (comment lines start with '#', one header line). */
+static int read_column(const char *name, double *out, int cap)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", SS_VECTORS_DIR, name);
+    FILE *fp = fopen(path, "r");
+    assert_non_null(fp);
+    char line[256];
+    int n = 0, header = 1;
+    while (fgets(line, sizeof line, fp) != NULL && n < cap) {
+        if (line[0] == '#' || line[0] == '\n') {
+            continue;
+        }
+        if (header) {
+            header = 0;
+            continue;
+        }
+        out[n++] = atof(line);
+    }
+    fclose(fp);
+    return n;
+}
+
+/* Presliding hysteresis with nested minor loops (tests/vectors/presliding_path.csv): the q force
+ * follows the float force within 2 % of Fs at every step (the issue's bound). Measured: ~1e-6 Fs,
+ * the 0.9 pm position quantum times sigma0. */
+static void test_q_presliding_loops_follow_float(void **unused)
+{
+    (void)unused;
+    double turns[64];
+    const int n = read_column("presliding_path.csv", turns, 64);
+    assert_true(n >= 4);
+    pair_t p;
+    pair_init(&p, 8.0);
+    double worst = 0.0, fmax = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const double w = pair_move(&p, turns[i] * 1e-6, 1e-9, 1e-3);
+        worst = w > worst ? w : worst;
+        fmax = fabs(p.f_q_n) > fmax ? fabs(p.f_q_n) : fmax;
+    }
+    print_message("presliding loops: worst |F_q - F_f32| = %.3g N = %.3g %% of Fs (peak %.3g Fs)\n", worst,
+                  100.0 * worst / (double)p.cf.fs_n, fmax / (double)p.cf.fs_n);
+    assert_true(fmax < 0.9 * (double)p.cf.fs_n); /* the path stays in presliding */
+    assert_true(fmax > 0.5 * (double)p.cf.fs_n); /* and spans most of it */
+    assert_true(worst < 0.02 * (double)p.cf.fs_n);
+    /* the stack is back to empty after the last outer reversal's mirror is passed? it holds the
+     * outer loop; both families agree on its depth */
+    assert_int_equal(p.sq.depth, p.sf.depth);
+}
+
+/* sigma0 is the initial stiffness, from rest and right after a reversal (the q exponent keeps
+ * 2^-32 resolution, so a 0.1 nm move is resolved to 1e-3). */
+static void test_q_initial_stiffness(void **unused)
+{
+    (void)unused;
+    pair_t p;
+    pair_init(&p, 8.0);
+    const double viscous = 1e-6 * 8.0;
+    pair_move(&p, 1e-10, 1e-10, 1e-6);
+    assert_close((p.f_q_n - viscous) / 1e-10, 1e7, 1e-3 * 1e7);
+    pair_move(&p, 0.2e-6, 1e-9, 1e-6);
+    const double fa = p.f_q_n;
+    pair_move(&p, 0.2e-6 - 1e-10, 1e-10, 1e-6);
+    assert_close((fa - p.f_q_n - 2.0 * viscous) / 1e-10, 1e7, 2e-3 * 1e7);
+}
+
+/* Steady sliding: the q force is the Stribeck curve g(v) + sigma2 v, as the float one (same
+ * 2e-4 tolerance as the float test; the q error is the exp bound 2^-26 of 0.6 N, ~1e-8 N). */
+static void test_q_steady_sliding_is_stribeck(void **unused)
+{
+    (void)unused;
+    const double speeds[] = {1e-6, 1e-4, 4e-4, 1e-3, 1e-2};
+    for (size_t i = 0; i < 5; ++i) {
+        pair_t p;
+        pair_init(&p, 8.0);
+        pair_move(&p, 20e-6, 1e-9, speeds[i]);
+        const double expect = (double)ss_stribeck_f32(&p.cf, (float)speeds[i]) + 8.0 * speeds[i];
+        print_message("v %.0e m/s: q %.7f N, f32 %.7f N, g + sigma2 v %.7f N\n", speeds[i], p.f_q_n,
+                      (double)p.f_f32, expect);
+        assert_close(p.f_q_n, expect, 2e-4 * expect);
+    }
+    /* the curve itself, over four decades of speed */
+    const ss_friction_config_f32_t cf = ss_friction_config_table1_f32();
+    double worst = 0.0;
+    for (double v = 1e-6; v < 1e-1; v *= 1.1) {
+        const double gq = ss_stribeck_q(fq_table1(), (int32_t)floor(v * 268435456.0 + 0.5)) / Q24;
+        const double r = v / (double)cf.vs_m_per_s;
+        const double gd = 3.0 + 0.6000001 * exp(-r * r);
+        worst = fmax(worst, fabs(gq - gd));
+    }
+    print_message("Stribeck curve: worst |g_q - g| = %.3g N\n", worst);
+    assert_true(worst < 1e-5); /* v quantised to 2^-28 m/s: dg = 2 r g' dv < 1e-6 N */
+}
+
+/* Wiping-out: after a minor loop closes, the force is that of the path without the loop. The q
+ * branches are recomputed from the same reversal point, so the forces agree to the bit. */
+static void test_q_wiping_out(void **unused)
+{
+    (void)unused;
+    pair_t a, b;
+    pair_init(&a, 8.0);
+    pair_init(&b, 8.0);
+    pair_move(&a, -0.4e-6, 1e-10, 1e-6);
+    pair_move(&b, -0.4e-6, 1e-10, 1e-6);
+    pair_move(&b, 0.1e-6, 1e-10, 1e-6);
+    const uint8_t depth = b.sq.depth;
+    pair_move(&b, -0.05e-6, 1e-10, 1e-6);
+    assert_int_equal(b.sq.depth, depth + 1);
+    pair_move(&a, 0.3e-6, 1e-10, 1e-6);
+    pair_move(&b, 0.3e-6, 1e-10, 1e-6);
+    assert_int_equal(b.sq.depth, depth);
+    assert_int_equal(b.sq.fm_q24, a.sq.fm_q24);
+    assert_int_equal(b.sq.force_q24, a.sq.force_q24);
+}
+
+/* Presliding below 0.9 Fs depends on the path only: in q the same path at 1000x the speed gives the
+ * same force to the bit (viscous term off); LuGre q does not. */
+static void test_q_rate_independent_lugre_not(void **unused)
+{
+    (void)unused;
+    int32_t ls_f[2], lg_f[2];
+    const double speeds[2] = {1e-6, 1e-3};
+    for (int k = 0; k < 2; ++k) {
+        pair_t p;
+        pair_init(&p, 0.0);
+        pair_move(&p, 0.25e-6, 1e-9, speeds[k]);
+        pair_move(&p, -0.25e-6, 1e-9, speeds[k]);
+        ls_f[k] = p.sq.force_q24;
+        ss_lugre_state_q_t lg;
+        ss_lugre_init_q(&p.cq, &lg);
+        const int32_t dx = (int32_t)floor(1e-9 * Q40 + 0.5);
+        const int32_t dt = (int32_t)floor(1e-9 / speeds[k] * Q40 + 0.5);
+        for (int i = 0; i < 250; ++i) {
+            ss_lugre_step_q(&p.cq, &lg, dx, dt);
+        }
+        for (int i = 0; i < 500; ++i) {
+            lg_f[k] = ss_lugre_step_q(&p.cq, &lg, -dx, dt);
+        }
+    }
+    print_message("q force at -0.25 um, 1 um/s vs 1 mm/s: LS %.6g vs %.6g N, LuGre %.5g vs %.5g N\n",
+                  ls_f[0] / Q24, ls_f[1] / Q24, lg_f[0] / Q24, lg_f[1] / Q24);
+    assert_int_equal(ls_f[1], ls_f[0]);
+    assert_true(fabs((double)lg_f[1] - (double)lg_f[0]) / Q24 > 1e-2 * 3.6);
+}
+
+/* Dupont's biased-force drift test with the q elements: a 13.8 g mass under 0..0.8 Fs at 50 Hz,
+ * integrated in double; the position is quantised to 2^-40 m without accumulating rounding. */
+static double drift_per_period_q(int lugre)
+{
+    const ss_friction_config_q_t *c = fq_table1();
+    ss_ls_state_q_t ls;
+    ss_lugre_state_q_t lg;
+    ss_ls_init_q(c, &ls);
+    ss_lugre_init_q(c, &lg);
+    const double m = 1.38e-2, f_hz = 50.0, dt = 1e-6, fs = 3.6;
+    const int32_t dt_q = (int32_t)floor(dt * Q40 + 0.5);
+    const int per = (int)(1.0 / (f_hz * dt) + 0.5);
+    double x = 0.0, v = 0.0, f = 0.0, x_prev = 0.0, drift = 0.0;
+    int64_t xq_prev = 0;
+    for (int k = 0; k < 20 * per; ++k) {
+        const double fext = fs * (0.4 + 0.4 * sin(6.283185307179586 * f_hz * k * dt));
+        v += (fext - f) / m * dt;
+        x += v * dt;
+        const int64_t xq = (int64_t)floor(x * Q40 + 0.5);
+        const int32_t dxq = (int32_t)(xq - xq_prev);
+        xq_prev = xq;
+        f = (lugre ? ss_lugre_step_q(c, &lg, dxq, dt_q) : ss_ls_step_q(c, &ls, dxq, dt_q)) / Q24;
+        if ((k + 1) % per == 0) {
+            drift = x - x_prev;
+            x_prev = x;
+        }
+    }
+    return drift;
+}
+
+static void test_q_no_drift_ls_drift_lugre(void **unused)
+{
+    (void)unused;
+    const double d_ls = drift_per_period_q(0);
+    const double d_lg = drift_per_period_q(1);
+    print_message("q drift per period: LS %.3g m, LuGre %.3g m\n", d_ls, d_lg);
+    /* one position quantum (0.9 pm) of dither per period at most; LuGre creeps 1e5 x more */
+    assert_true(fabs(d_ls) < 2e-12);
+    assert_true(d_lg > 1e-7);
+}
+
+static void test_q_memory_depth_bounded(void **unused)
+{
+    (void)unused;
+    pair_t p;
+    pair_init(&p, 8.0);
+    double amp = 0.3e-6;
+    for (int i = 0; i < 3 * SS_LS_Q_MEMORY_DEPTH; ++i) {
+        pair_move(&p, (i % 2) ? amp : -amp, 1e-10, 1e-3);
+        amp *= 0.9;
+        assert_true(p.sq.depth <= SS_LS_Q_MEMORY_DEPTH);
+        assert_true(abs(p.sq.fm_q24) <= p.cq.fs_q24);
+        assert_int_equal(p.sq.depth, p.sf.depth);
+    }
+}
+
+/* ---- actuator ------------------------------------------------------------------------------- */
+
+enum { MAX_CYCLES = 16 };
+
+/* Slider position at the period boundaries (x[0] at t = 0 .. x[cycles]) for both families, taken
+ * at the same step numbers round(k / (f dt)): the float player and the q phase accumulator may
+ * put a boundary one step apart, and the slider can be sliding there (20 nm in a step at 300 Hz). */
+static void run_both(ss_actuator_config_f32_t cf, double f_hz, double amp_v, double rise, uint32_t cycles,
+                     double *x_f, double *x_q, int64_t x0_q)
+{
+    ss_actuator_config_q_t cq;
+    assert_int_equal(ss_actuator_config_to_q(&cf, &cq, NULL), SS_OK);
+    ss_waveform_config_f32_t wf =
+        ss_waveform_sawtooth_f32((float)f_hz, (float)amp_v, 0.0f, (float)rise, 1, cycles);
+    ss_waveform_config_q_t wq;
+    assert_int_equal(ss_waveform_config_to_q(&wf, &wq, NULL), SS_OK);
+    ss_waveform_state_f32_t swf;
+    ss_waveform_state_q_t swq;
+    ss_actuator_state_f32_t sf;
+    ss_actuator_state_q_t sq;
+    assert_int_equal(ss_waveform_init_f32(&wf, cf.dt_s, &swf), SS_OK);
+    assert_int_equal(ss_waveform_init_q(&wq, cq.dt_q40, &swq), SS_OK);
+    assert_int_equal(ss_actuator_init_f32(&cf, &sf, 0.0f), SS_OK);
+    assert_int_equal(ss_actuator_init_q(&cq, &sq, 0), SS_OK);
+    sq.x_slider_q40 = x0_q;
+    x_f[0] = 0.0;
+    x_q[0] = 0.0;
+    const double per = 1.0 / (f_hz * (double)cf.dt_s);
+    uint32_t n = 0;
+    for (uint32_t k = 1; k <= cycles; ++k) {
+        for (const uint32_t n_k = (uint32_t)floor(k * per + 0.5); n < n_k; ++n) {
+            ss_waveform_advance_f32(&swf);
+            ss_actuator_step_f32(&cf, &sf, ss_waveform_value_f32(&wf, &swf));
+            ss_waveform_advance_q(&swq);
+            ss_actuator_step_q(&cq, &sq, ss_waveform_value_q(&wq, &swq));
+        }
+        x_f[k] = ss_position_value_f32(sf.x_slider);
+        x_q[k] = (double)(sq.x_slider_q40 - x0_q) / Q40;
+    }
+}
+
+/* Per-cycle steps over the drives of tests/vectors/fixed_model_drives.csv, every cycle from the
+ * virgin start on: |q - f32| within the file's share (the issue's 1 %) of the float step, or of
+ * 0.1 % of the stroke where the slider hardly steps (100 Hz: the 500 us fall lets it follow the
+ * rod back, steps < 1 nm, below the float core's own discretisation error of 0.08 % of a 2 um
+ * step, docs/model.md). */
+static void test_q_actuator_steps_match_float(void **unused)
+{
+    (void)unused;
+    char path[512];
+    snprintf(path, sizeof path, "%s/fixed_model_drives.csv", SS_VECTORS_DIR);
+    FILE *fp = fopen(path, "r");
+    assert_non_null(fp);
+    char line[256];
+    int header = 1, cases = 0;
+    double worst_all = 0.0;
+    while (fgets(line, sizeof line, fp) != NULL) {
+        if (line[0] == '#' || line[0] == '\n') {
+            continue;
+        }
+        if (header) {
+            header = 0;
+            continue;
+        }
+        double f_hz, amp, rise, tol;
+        unsigned cycles;
+        char model[16];
+        assert_int_equal(
+            sscanf(line, "%lf,%lf,%lf,%u,%15[a-z],%lf", &f_hz, &amp, &rise, &cycles, model, &tol), 6);
+        assert_true(cycles <= MAX_CYCLES);
+        ss_actuator_config_f32_t cf = ss_actuator_config_table1_f32();
+        cf.friction_model = (strcmp(model, "lugre") == 0) ? SS_FRICTION_LUGRE : SS_FRICTION_LS;
+        double xf[MAX_CYCLES + 1], xq[MAX_CYCLES + 1];
+        run_both(cf, f_hz, amp, rise, cycles, xf, xq, 0);
+        const double floor_m = 1e-3 * amp * (double)cf.piezo_gain_m_per_v;
+        double worst = 0.0, worst_abs = 0.0, settled = 0.0;
+        for (unsigned k = 1; k <= cycles; ++k) {
+            const double sf = xf[k] - xf[k - 1], sq = xq[k] - xq[k - 1];
+            const double err = fabs(sq - sf) / fmax(fabs(sf), floor_m / tol);
+            worst = err > worst ? err : worst;
+            worst_abs = fmax(worst_abs, fabs(sq - sf));
+            settled = sf;
+        }
+        print_message(
+            "%6.0f Hz %5.1f V rise %.2f %-5s: last step %8.4f um, worst |q - f32| %.4f %% (%.3g nm)\n", f_hz,
+            amp, rise, model, settled * 1e6, 100.0 * worst, worst_abs * 1e9);
+        assert_true(worst < tol);
+        worst_all = worst > worst_all ? worst : worst_all;
+        ++cases;
+    }
+    fclose(fp);
+    print_message("%d drives, worst per-cycle step error %.4f %% of the tolerance's base\n", cases,
+                  100.0 * worst_all);
+    assert_true(cases >= 15);
+}
+
+/* Travel of +-25 mm at 2^-40 m: nothing in the q model depends on where the slider is, so a run
+ * that starts at -25 mm or +25 mm steps exactly (to the bit) as one that starts at 0. */
+static void test_q_long_travel_is_exact(void **unused)
+{
+    (void)unused;
+    const ss_actuator_config_f32_t cf = ss_actuator_config_table1_f32();
+    double xf[5], x0[5], xm[5], xp[5];
+    const int64_t mm25 = (int64_t)floor(25e-3 * Q40 + 0.5);
+    run_both(cf, 2000.0, 100.0, 0.95, 4, xf, x0, 0);
+    run_both(cf, 2000.0, 100.0, 0.95, 4, xf, xm, -mm25);
+    run_both(cf, 2000.0, 100.0, 0.95, 4, xf, xp, mm25);
+    for (int k = 0; k < 5; ++k) {
+        assert_true(xm[k] == x0[k] && xp[k] == x0[k]);
+    }
+    assert_true(x0[4] > 4e-6);
+}
+
+static void test_q_rest_stays_at_rest(void **unused)
+{
+    (void)unused;
+    const ss_actuator_config_q_t c = ss_actuator_config_table1_q();
+    ss_actuator_state_q_t st;
+    assert_int_equal(ss_actuator_init_q(&c, &st, 30 << 16), SS_OK);
+    for (int k = 0; k < 10000; ++k) {
+        assert_int_equal(ss_actuator_step_q(&c, &st, 30 << 16), SS_OK);
+    }
+    assert_true(st.x_slider_q40 == 0);
+    assert_int_equal(st.force_q24, 0);
+    /* 30 V x 44 nm/V = 1.32 um, to the position quantum */
+    assert_close(st.x_rod_q40 / Q40, 1.32e-6, 2.0 / Q40);
+}
+
+/* The run loop records exactly what stepping by hand produces; the trace columns are the state. */
+static void test_q_run_matches_manual_steps(void **unused)
+{
+    (void)unused;
+    const ss_actuator_config_q_t c = ss_actuator_config_table1_q();
+    const ss_waveform_config_q_t w = ss_waveform_sawtooth_q(500000u, 100 << 16, 0, 4080218931u, 1, 2);
+    ss_waveform_state_q_t wa, wb;
+    ss_actuator_state_q_t a, b;
+    memset(&a, 0, sizeof a);
+    memset(&b, 0, sizeof b);
+    ss_waveform_init_q(&w, c.dt_q40, &wa);
+    ss_waveform_init_q(&w, c.dt_q40, &wb);
+    ss_actuator_init_q(&c, &a, 0);
+    ss_actuator_init_q(&c, &b, 0);
+    enum { N = 4000, DEC = 7, ROWS = N / DEC };
+    static uint32_t step[ROWS];
+    static int32_t col[8][ROWS];
+    static int64_t xs[ROWS];
+    ss_actuator_trace_q_t tr = {step,   col[0], col[1], col[2], xs,  col[3],
+                                col[4], col[5], col[6], col[7], ROWS};
+    uint32_t rows = 0;
+    assert_int_equal(ss_actuator_run_q(&c, &a, &w, &wa, N, DEC, &tr, &rows), SS_OK);
+    assert_int_equal(rows, ROWS);
+    for (uint32_t k = 1; k <= N; ++k) {
+        ss_waveform_advance_q(&wb);
+        ss_actuator_step_q(&c, &b, ss_waveform_value_q(&w, &wb));
+        if (k % DEC == 0) {
+            const uint32_t r = k / DEC - 1;
+            assert_int_equal(step[r], k);
+            assert_true(xs[r] == b.x_slider_q40);
+            assert_int_equal(col[5][r], b.force_q24);
+            assert_int_equal(col[6][r], b.fr.ls.level_q24);
+            assert_int_equal(col[7][r], b.fr.ls.fm_q24);
+        }
+    }
+    assert_memory_equal(&a, &b, sizeof a);
+    ss_actuator_si_t si;
+    ss_actuator_state_q_to_si(&c, &b, &si);
+    assert_close(si.x_slider_m, (double)b.x_slider_q40 / Q40, 0.0);
+    assert_close(si.force_n, b.force_q24 / Q24, 0.0);
+    tr.capacity = ROWS - 1;
+    assert_int_equal(ss_actuator_run_q(&c, &a, &w, &wa, N, DEC, &tr, &rows), SS_ERR_RANGE);
+    assert_int_equal(ss_actuator_run_q(&c, &a, &w, &wa, N, 0, NULL, &rows), SS_ERR_RANGE);
+    assert_int_equal(ss_actuator_run_q(&c, &a, &w, &wa, N, 1, NULL, NULL), SS_ERR_NULL);
+}
+
+/* The phase accumulator: period boundaries at the exact step, shape as the float sawtooth. */
+static void test_q_waveform(void **unused)
+{
+    (void)unused;
+    ss_waveform_config_f32_t wf = ss_waveform_sawtooth_f32(1000.0f, 10.0f, 1.0f, 0.8f, 1, 2);
+    ss_waveform_config_q_t wq;
+    assert_int_equal(ss_waveform_config_to_q(&wf, &wq, NULL), SS_OK);
+    const int32_t dt_q = 1099512;
+    ss_waveform_state_q_t st;
+    ss_waveform_state_f32_t sf;
+    assert_int_equal(ss_waveform_init_q(&wq, dt_q, &st), SS_OK);
+    assert_int_equal(ss_waveform_init_f32(&wf, 1e-6f, &sf), SS_OK);
+    double worst = 0.0;
+    for (int k = 0; k < 2500; ++k) {
+        /* dt_q is 1.00000034 us: 1000 steps are 0.34 ns more than a period, a 3.4 uV shift */
+        worst = fmax(worst,
+                     fabs(ss_waveform_value_q(&wq, &st) / 65536.0 - (double)ss_waveform_value_f32(&wf, &sf)));
+        if (k == 999 || k == 1999) {
+            assert_int_equal(st.index, (uint32_t)(k / 1000));
+        }
+        ss_waveform_advance_q(&st);
+        ss_waveform_advance_f32(&sf);
+    }
+    print_message("sawtooth: worst |V_q - V_f32| = %.3g V\n", worst);
+    assert_true(worst < 1e-3); /* float32 tau/period rounding dominates */
+    assert_int_equal(ss_waveform_value_q(&wq, &st), 1 << 16);
+    /* reversed direction is the period played backwards */
+    ss_waveform_config_q_t r = wq;
+    r.direction = -1;
+    for (uint32_t i = 0; i < 63u; ++i) {
+        const uint32_t p = (1u << 20) + i * (1u << 26);
+        assert_int_equal(ss_sawtooth_at_phase_q(&r, p), ss_sawtooth_at_phase_q(&wq, (uint32_t)(0u - p)));
+    }
+    int32_t out[3];
+    assert_int_equal(ss_waveform_fill_q(&wq, &st, out, 3), SS_OK);
+    assert_int_equal(ss_waveform_init_q(&wq, 0, &st), SS_ERR_RANGE);
+    wq.frequency_mhz = 2000000000u; /* 2 MHz: a period shorter than the 1 us step */
+    assert_int_equal(ss_waveform_init_q(&wq, dt_q, &st), SS_ERR_RANGE);
+}
+
+static void test_q_abi_sizes(void **unused)
+{
+    (void)unused;
+    assert_int_equal(ss_abi_sizeof(SS_ABI_ACTUATOR_CONFIG_Q), sizeof(ss_actuator_config_q_t));
+    assert_int_equal(ss_abi_sizeof(SS_ABI_ACTUATOR_STATE_Q), sizeof(ss_actuator_state_q_t));
+    assert_int_equal(ss_abi_sizeof(SS_ABI_ACTUATOR_TRACE_Q), sizeof(ss_actuator_trace_q_t));
+    assert_int_equal(ss_abi_sizeof(SS_ABI_ACTUATOR_SI), sizeof(ss_actuator_si_t));
+    for (int32_t id = 0; id <= SS_ABI_ACTUATOR_SI; ++id) {
+        assert_true(ss_abi_sizeof(id) > 0u);
+    }
+    print_message("sizeof q state: actuator %zu, LS %zu, LuGre %zu bytes (f32: %zu)\n",
+                  sizeof(ss_actuator_state_q_t), sizeof(ss_ls_state_q_t), sizeof(ss_lugre_state_q_t),
+                  sizeof(ss_actuator_state_f32_t));
+    assert_true(sizeof(ss_actuator_state_q_t) <= sizeof(ss_actuator_state_f32_t));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_table1_constants_match_converter),
+        cmocka_unit_test(test_converter_names_bad_fields),
+        cmocka_unit_test(test_q_presliding_loops_follow_float),
+        cmocka_unit_test(test_q_initial_stiffness),
+        cmocka_unit_test(test_q_steady_sliding_is_stribeck),
+        cmocka_unit_test(test_q_wiping_out),
+        cmocka_unit_test(test_q_rate_independent_lugre_not),
+        cmocka_unit_test(test_q_no_drift_ls_drift_lugre),
+        cmocka_unit_test(test_q_memory_depth_bounded),
+        cmocka_unit_test(test_q_rest_stays_at_rest),
+        cmocka_unit_test(test_q_run_matches_manual_steps),
+        cmocka_unit_test(test_q_waveform),
+        cmocka_unit_test(test_q_actuator_steps_match_float),
+        cmocka_unit_test(test_q_long_travel_is_exact),
+        cmocka_unit_test(test_q_abi_sizes),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
