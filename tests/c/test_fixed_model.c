@@ -558,6 +558,22 @@ static void test_q_waveform(void **unused)
     assert_int_equal(ss_waveform_init_q(&wq, dt_q, &st), SS_ERR_RANGE);
 }
 
+/* The q arithmetic is bit-identical on every target: port/cortex_m/q_check.c runs this same drive
+ * on the Cortex-M0+ build and exits non-zero unless it lands on the same 2^-40 m. */
+static void test_q_bit_exact_reference(void **unused)
+{
+    (void)unused;
+    const ss_actuator_config_q_t cfg = ss_actuator_config_table1_q();
+    const ss_waveform_config_q_t w = ss_waveform_sawtooth_q(2000000u, 100 << 16, 0, 4080218931u, 1, 2u);
+    ss_waveform_state_q_t ws;
+    ss_actuator_state_q_t st;
+    uint32_t rows = 0;
+    assert_int_equal(ss_waveform_init_q(&w, cfg.dt_q40, &ws), SS_OK);
+    assert_int_equal(ss_actuator_init_q(&cfg, &st, ss_waveform_value_q(&w, &ws)), SS_OK);
+    assert_int_equal(ss_actuator_run_q(&cfg, &st, &w, &ws, 1000u, 250u, NULL, &rows), SS_OK);
+    assert_true(st.x_slider_q40 == 9376679); /* SS_Q_CHECK_X_SLIDER in q_check.c: 8.53 um */
+}
+
 static void test_q_abi_sizes(void **unused)
 {
     (void)unused;
@@ -591,6 +607,7 @@ int main(void)
         cmocka_unit_test(test_q_waveform),
         cmocka_unit_test(test_q_actuator_steps_match_float),
         cmocka_unit_test(test_q_long_travel_is_exact),
+        cmocka_unit_test(test_q_bit_exact_reference),
         cmocka_unit_test(test_q_abi_sizes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
