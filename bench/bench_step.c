@@ -5,6 +5,7 @@
 #include <time.h>
 
 #include "ss_actuator.h"
+#include "ss_actuator_q.h"
 
 static double now_s(void)
 {
@@ -57,6 +58,33 @@ int main(int argc, char **argv)
             "\"sim_s_per_wall_s\": %.4g, \"dt_s\": %g, \"check\": %.6g}\n",
             names[m], steps, repeats, med, 1e9 * med / (double)steps, (double)steps * (double)cfg.dt_s / med,
             (double)cfg.dt_s, (double)sink / repeats);
+    }
+    /* the fixed-point family on the same drive (Table I q constants, 100 V = 100 << 16) */
+    for (int m = 0; m < 2; ++m) {
+        ss_actuator_config_q_t cfg = ss_actuator_config_table1_q();
+        cfg.friction_model = m;
+        const ss_waveform_config_q_t w =
+            ss_waveform_sawtooth_q(500000u, 100 << 16, 0, 4080218931u, 1, cycles);
+        const uint32_t steps = (uint32_t)((double)cycles / 500.0 / 1e-6 + 0.5);
+        double sink = 0.0;
+        for (int r = 0; r < repeats; ++r) {
+            ss_waveform_state_q_t ws;
+            ss_actuator_state_q_t st;
+            ss_waveform_init_q(&w, cfg.dt_q40, &ws);
+            ss_actuator_init_q(&cfg, &st, 0);
+            uint32_t rows = 0;
+            const double t0 = now_s();
+            ss_actuator_run_q(&cfg, &st, &w, &ws, steps, 1u, NULL, &rows);
+            t[r] = now_s() - t0;
+            sink += (double)st.x_slider_q40 / 1099511627776.0;
+        }
+        qsort(t, (size_t)repeats, sizeof(double), cmp);
+        const double med = t[repeats / 2];
+        printf("{\"model\": \"%s_q\", \"steps\": %u, \"repeats\": %d, \"median_s\": %.6g, \"ns_per_step\": "
+               "%.4g, "
+               "\"sim_s_per_wall_s\": %.4g, \"dt_s\": %g, \"check\": %.6g}\n",
+               names[m], steps, repeats, med, 1e9 * med / (double)steps, (double)steps * 1e-6 / med, 1e-6,
+               sink / repeats);
     }
     free(t);
     return 0;
