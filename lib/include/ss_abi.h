@@ -13,7 +13,8 @@ typedef enum {
     SS_ABI_WAVEFORM_STATE_F32 = 4,
     SS_ABI_LS_STATE_F32 = 5,
     SS_ABI_LUGRE_STATE_F32 = 6,
-    SS_ABI_ACTUATOR_TRACE_F32 = 7
+    SS_ABI_ACTUATOR_TRACE_F32 = 7,
+    SS_ABI_EFFECTS_CONFIG_F32 = 20
 } ss_abi_struct_t;
 
 /* sizeof the struct, or 0 for an unknown id. */

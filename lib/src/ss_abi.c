@@ -13,6 +13,7 @@ uint32_t ss_abi_sizeof(int32_t which)
     case SS_ABI_LS_STATE_F32: return (uint32_t)sizeof(ss_ls_state_f32_t);
     case SS_ABI_LUGRE_STATE_F32: return (uint32_t)sizeof(ss_lugre_state_f32_t);
     case SS_ABI_ACTUATOR_TRACE_F32: return (uint32_t)sizeof(ss_actuator_trace_f32_t);
+    case SS_ABI_EFFECTS_CONFIG_F32: return (uint32_t)sizeof(ss_effects_config_f32_t);
     default: return 0u;
     }
 }
