@@ -230,8 +230,8 @@ int main(int argc, char **argv)
     /* cppcheck-suppress unassignedVariable ; written by the library through the trace struct */
     static uint32_t step[CHUNK_ROWS];
     static float col[8][CHUNK_ROWS];
-    ss_actuator_trace_f32_t tr = {step, col[0], col[1], col[2], col[3],    NULL,
-                                  NULL, col[4], col[5], col[6], CHUNK_ROWS};
+    ss_actuator_trace_f32_t tr = {step, col[0], col[1], col[2], col[3], NULL,
+                                  NULL, col[4], col[5], col[6], NULL,   CHUNK_ROWS};
     ss_actuator_record_f32(&cfg, &st, &tr, 0);
     uint32_t rows = 1;
     uint32_t left = (uint32_t)n_steps_d;

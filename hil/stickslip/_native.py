@@ -28,6 +28,30 @@ class FrictionConfig(C.Structure):
         ("sigma0_n_per_m", C.c_float),
         ("sigma1_ns_per_m", C.c_float),
         ("sigma2_ns_per_m", C.c_float),
+        ("asymmetry", C.c_float),
+    ]
+
+
+class EffectsConfig(C.Structure):
+    """ss_effects_config_f32_t: the optional effects of the diagnosis catalog, zero = off."""
+
+    _fields_ = [
+        (name, C.c_float)
+        for name in (
+            "hysteresis_alpha",
+            "hysteresis_width_m",
+            "creep_ratio",
+            "creep_tau_s",
+            "load_n",
+            "friction_gradient_per_m",
+            "slew_v_per_s",
+            "thermal_coeff_per_j",
+            "thermal_tau_s",
+            "base_mass_kg",
+            "base_freq_hz",
+            "base_damping_ratio",
+            "sensor_scale_error",
+        )
     ]
 
 
@@ -41,6 +65,7 @@ class ActuatorConfig(C.Structure):
         ("dt_s", C.c_float),
         ("friction_model", C.c_int32),
         ("friction", FrictionConfig),
+        ("effects", EffectsConfig),
     ]
 
 
@@ -74,6 +99,7 @@ class ActuatorTrace(C.Structure):
         ("force_n", _FP),
         ("state_a", _FP),
         ("state_b", _FP),
+        ("x_meas_m", _FP),
         ("capacity", C.c_uint32),
     ]
 
@@ -86,6 +112,7 @@ _ABI = {
     ActuatorConfig: 1,
     WaveformConfig: 3,
     ActuatorTrace: 7,
+    EffectsConfig: 20,
 }
 _ABI_ACTUATOR_STATE, _ABI_WAVEFORM_STATE, _ABI_LS_STATE, _ABI_LUGRE_STATE = 2, 4, 5, 6
 
@@ -131,6 +158,7 @@ _proto("ss_friction_config_check_f32", C.c_int, C.POINTER(FrictionConfig), C.POI
 _proto("ss_actuator_config_check_f32", C.c_int, C.POINTER(ActuatorConfig), C.POINTER(C.c_char_p))
 _proto("ss_actuator_init_f32", C.c_int, C.POINTER(ActuatorConfig), _P, C.c_float)
 _proto("ss_actuator_step_f32", C.c_int, C.POINTER(ActuatorConfig), _P, C.c_float)
+_proto("ss_actuator_place_slider_f32", None, _P, C.c_float)
 _proto(
     "ss_actuator_record_f32",
     None,

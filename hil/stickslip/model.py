@@ -22,6 +22,37 @@ def _model_id(model: str) -> int:
 
 
 @dataclass(frozen=True)
+class Effects:
+    """The optional physical effects of the C model (ss_effects.h; docs/effects.md), zero = off.
+    friction_asymmetry goes to the friction config, the rest to the effects config."""
+
+    hysteresis_alpha: float = 0.0
+    hysteresis_width_m: float = 0.0
+    creep_ratio: float = 0.0
+    creep_tau_s: float = 0.0
+    load_n: float = 0.0
+    friction_gradient_per_m: float = 0.0
+    friction_asymmetry: float = 0.0
+    slew_v_per_s: float = 0.0
+    thermal_coeff_per_j: float = 0.0
+    thermal_tau_s: float = 0.0
+    base_mass_kg: float = 0.0
+    base_freq_hz: float = 0.0
+    base_damping_ratio: float = 0.0
+    sensor_scale_error: float = 0.0
+
+    def config(self) -> N.EffectsConfig:
+        e = N.EffectsConfig()
+        for f in fields(self):
+            if f.name != "friction_asymmetry":
+                setattr(e, f.name, getattr(self, f.name))
+        return e
+
+    def active(self) -> dict[str, float]:
+        return {k: v for k, v in asdict(self).items() if v != 0.0}
+
+
+@dataclass(frozen=True)
 class ActuatorParams:
     """Actuator and friction parameters, named as in stick-slip-dataset/1 (SI units)."""
 
@@ -81,7 +112,12 @@ class ActuatorParams:
             self.sigma2_ns_per_m,
         )
 
-    def actuator_config(self, model: str = "ls", dt_s: float = 1e-6) -> N.ActuatorConfig:
+    def actuator_config(
+        self, model: str = "ls", dt_s: float = 1e-6, effects: Effects | None = None
+    ) -> N.ActuatorConfig:
+        effects = effects or Effects()
+        fcfg = self.friction_config()
+        fcfg.asymmetry = effects.friction_asymmetry
         return N.ActuatorConfig(
             self.piezo_stiffness_n_per_m,
             self.piezo_damping_kg_per_s,
@@ -90,7 +126,8 @@ class ActuatorParams:
             self.piezo_gain_m_per_v,
             dt_s,
             _model_id(model),
-            self.friction_config(),
+            fcfg,
+            effects.config(),
         )
 
 
@@ -171,6 +208,7 @@ class SimResult:
     force_n: np.ndarray
     state_a: np.ndarray
     state_b: np.ndarray
+    x_meas_m: np.ndarray
     waveform: Sawtooth | None = None
     meta: dict = field(default_factory=dict)
 
@@ -229,7 +267,9 @@ class SimResult:
         )
 
 
-def _run_native(cfg, wave_cfg, n_steps: int, decimation: int) -> dict[str, np.ndarray]:
+def _run_native(
+    cfg, wave_cfg, n_steps: int, decimation: int, x0_m: float = 0.0
+) -> dict[str, np.ndarray]:
     rows = n_steps // decimation
     cols = {name: np.zeros(rows + 1, np.float32) for name in N.TRACE_COLUMNS if name != "step"}
     cols["step"] = np.zeros(rows + 1, np.uint32)
@@ -238,6 +278,8 @@ def _run_native(cfg, wave_cfg, n_steps: int, decimation: int) -> dict[str, np.nd
     N.check(N.lib.ss_waveform_init_f32(C.byref(wave_cfg), cfg.dt_s, wst), "waveform")
     v0 = N.lib.ss_waveform_value_f32(C.byref(wave_cfg), wst)
     N.check(N.lib.ss_actuator_init_f32(C.byref(cfg), st, v0), "actuator parameters")
+    if x0_m != 0.0:
+        N.lib.ss_actuator_place_slider_f32(st, x0_m)
     first = N.trace_for(cols, rows + 1)
     N.lib.ss_actuator_record_f32(C.byref(cfg), st, C.byref(first), 0)
     # the run writes from row 1 on: point a second trace one row in
@@ -260,11 +302,14 @@ def simulate(
     decimation: int = 1,
     drive_v: np.ndarray | None = None,
     drive_interval_s: float | None = None,
+    effects: Effects | None = None,
+    x0_m: float = 0.0,
 ) -> SimResult:
     """Simulate the actuator under a sawtooth, or under sampled drive voltages (drive_v at
-    drive_interval_s, linearly interpolated), with the C model."""
+    drive_interval_s, linearly interpolated), with the C model; effects switch on optional
+    physics, x0_m is where the slider starts."""
     params = params or ActuatorParams.table1()
-    cfg = params.actuator_config(model, dt_s)
+    cfg = params.actuator_config(model, dt_s, effects)
     N.check_config(cfg)
     if drive_v is None:
         waveform = waveform or Sawtooth()
@@ -290,7 +335,9 @@ def simulate(
     n_steps = int(round(duration / dt_s))
     if n_steps > 2**31:
         raise ValueError(f"run too long: {n_steps} steps")
-    cols = _run_native(cfg, wave_cfg, n_steps, decimation)
+    if not math.isfinite(x0_m):
+        raise ValueError(f"x0_m must be finite, got {x0_m}")
+    cols = _run_native(cfg, wave_cfg, n_steps, decimation, x0_m)
     del samples  # kept alive until the run is over
     f64 = {k: v.astype(np.float64) for k, v in cols.items()}
     return SimResult(
@@ -306,6 +353,7 @@ def simulate(
         force_n=f64["force_n"],
         state_a=f64["state_a"],
         state_b=f64["state_b"],
+        x_meas_m=f64["x_meas_m"],
         waveform=waveform if drive_v is None else None,
     )
 

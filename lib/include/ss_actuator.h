@@ -5,6 +5,7 @@
 #define SS_ACTUATOR_H
 
 #include <stdint.h>
+#include "ss_effects.h"
 #include "ss_friction.h"
 #include "ss_ls_friction.h"
 #include "ss_lugre.h"
@@ -21,6 +22,7 @@ typedef struct {
     float dt_s;                    /* fixed step, [1e-9, 1e-3] */
     int32_t friction_model;        /* ss_friction_kind_t */
     ss_friction_config_f32_t friction;
+    ss_effects_config_f32_t effects; /* optional extensions, all off in a zeroed struct */
 } ss_actuator_config_f32_t;
 
 /* Position as an unevaluated sum hi + lo: micrometre steps over centimetres of travel stay exact
@@ -34,18 +36,20 @@ typedef struct {
     float x_rod_m, v_rod_m_per_s; /* rod position and velocity */
     ss_position_f32_t x_slider;   /* slider position */
     float v_slider_m_per_s;
-    float x_p_m;    /* ideal piezo strain at the current time */
-    float drive_v;  /* drive voltage at the current time */
+    float x_p_m;    /* piezo strain at the current time (ideal gain * drive unless effects shape it) */
+    float drive_v;  /* commanded drive voltage at the current time */
     float force_n;  /* friction on the slider (on the rod: -force_n) */
     uint32_t steps; /* steps taken since init */
     float phi[4];   /* rod flow over dt: [e, de/dt] -> phi * [e, de/dt] */
+    ss_effects_state_f32_t fx; /* states of the optional effects */
     union {
         ss_ls_state_f32_t ls;
         ss_lugre_state_f32_t lugre;
     } fr;
 } ss_actuator_state_f32_t;
 
-/* Table I of the LS paper (LS friction, gain 44 nm/V so 100 V is the paper's 4.4 um), dt 1 us. */
+/* Table I of the LS paper (LS friction, gain 44 nm/V so 100 V is the paper's 4.4 um), dt 1 us,
+ * no effects. */
 ss_actuator_config_f32_t ss_actuator_config_table1_f32(void);
 
 /* SS_OK or the first problem with cfg; *bad_field (when not NULL) names the field, e.g.
@@ -61,6 +65,9 @@ ss_status_t ss_actuator_init_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
 ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
                                  float drive_v);
 
+/* Put the slider at x_m (e.g. where a measured run starts; position-dependent friction sees it). */
+void ss_actuator_place_slider_f32(ss_actuator_state_f32_t *st, float x_m);
+
 float ss_position_value_f32(ss_position_f32_t p);
 
 /* Columns a run may record; any pointer may be NULL. */
@@ -75,6 +82,7 @@ typedef struct {
     float *force_n;
     float *state_a;    /* LS: break-away level s (N);    LuGre: bristle z (m) */
     float *state_b;    /* LS: presliding force F_M (N); LuGre: dz/dt (m/s) */
+    float *x_meas_m;   /* slider position as the sensor reports it (effects.sensor_scale_error) */
     uint32_t capacity; /* rows the buffers hold */
 } ss_actuator_trace_f32_t;
 

@@ -12,12 +12,13 @@ typedef struct {
     float sigma0_n_per_m;  /* initial contact stiffness, [1, 1e12] */
     float sigma1_ns_per_m; /* micro-damping, [0, 1e6] */
     float sigma2_ns_per_m; /* viscous friction, [0, 1e6] */
+    float asymmetry;       /* contact force times 1 + asymmetry sgn(load): direction-dependent, [-0.9, 0.9] */
 } ss_friction_config_f32_t;
 
 /* Table I of the LS paper: mu_s 0.36, mu_d 0.30, N 10 N, vs 0.4 mm/s, sigma 1e7/80/8. */
 ss_friction_config_f32_t ss_friction_config_table1_f32(void);
 
-/* Config from friction coefficients and clamping (normal) force. */
+/* Config from friction coefficients and clamping (normal) force; symmetric (asymmetry 0). */
 ss_friction_config_f32_t ss_friction_config_from_mu_f32(float mu_s, float mu_d, float normal_force_n,
                                                         float vs_m_per_s, float sigma0_n_per_m,
                                                         float sigma1_ns_per_m, float sigma2_ns_per_m);
@@ -33,6 +34,11 @@ ss_status_t ss_friction_config_check_named_f32(const ss_friction_config_f32_t *c
 
 /* Stribeck curve g(v) in N: Fs at rest, Fc in fast sliding. */
 float ss_stribeck_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s);
+
+/* Asymmetric friction: the contact's elastic and micro-damping force is 1 + asymmetry times as
+ * strong when loaded in +x (load > 0) as nominal, 1 - asymmetry in -x. Continuous, since the
+ * force vanishes where the load changes sign; 1 exactly for symmetric friction. */
+float ss_asymmetry_factor_f32(const ss_friction_config_f32_t *cfg, float load);
 
 /* Slope dg/dv of the Stribeck curve, N s/m. */
 float ss_stribeck_slope_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s);

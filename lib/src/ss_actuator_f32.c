@@ -16,6 +16,7 @@ ss_actuator_config_f32_t ss_actuator_config_table1_f32(void)
     cfg.dt_s = 1.0e-6f;
     cfg.friction_model = SS_FRICTION_LS;
     cfg.friction = ss_friction_config_table1_f32();
+    cfg.effects = ss_effects_config_none_f32();
     return cfg;
 }
 
@@ -64,6 +65,9 @@ ss_status_t ss_actuator_config_check_f32(const ss_actuator_config_f32_t *cfg, co
     }
     /* friction fields carry a prefix so the caller can tell them apart */
     st = ss_friction_config_check_named_f32(&cfg->friction, 1, bad);
+    if (st == SS_OK) {
+        st = ss_effects_config_check_f32(&cfg->effects, bad);
+    }
     return st;
 }
 
@@ -99,16 +103,58 @@ static void rod_flow(const ss_actuator_config_f32_t *cfg, float phi[4])
 }
 
 /* Advance the friction state over the drift's relative displacement, then return the force at
- * relative velocity v_end with its slope dF/dv. */
+ * relative velocity v_end with its slope dF/dv. Position-dependent and thermal effects scale Fs
+ * and Fc (the normal force) for the step. */
 static float friction_step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float dx,
                            float v_end, float *dfdv)
 {
-    if (cfg->friction_model == SS_FRICTION_LUGRE) {
-        ss_lugre_advance_f32(&cfg->friction, &st->fr.lugre, dx, cfg->dt_s);
-        return ss_lugre_force_at_f32(&cfg->friction, &st->fr.lugre, v_end, dfdv);
+    const float scale =
+        ss_effects_friction_scale_f32(&cfg->effects, &st->fx, ss_position_value_f32(st->x_slider));
+    ss_friction_config_f32_t scaled;
+    const ss_friction_config_f32_t *fr = &cfg->friction;
+    if (scale != 1.0f) {
+        scaled = cfg->friction;
+        scaled.fs_n *= scale;
+        scaled.fc_n *= scale;
+        fr = &scaled;
     }
-    ss_ls_advance_f32(&cfg->friction, &st->fr.ls, dx, cfg->dt_s);
-    return ss_ls_force_at_f32(&cfg->friction, &st->fr.ls, v_end, dfdv);
+    if (cfg->friction_model == SS_FRICTION_LUGRE) {
+        ss_lugre_advance_f32(fr, &st->fr.lugre, dx, cfg->dt_s);
+        return ss_lugre_force_at_f32(fr, &st->fr.lugre, v_end, dfdv);
+    }
+    ss_ls_advance_f32(fr, &st->fr.ls, dx, cfg->dt_s);
+    return ss_ls_force_at_f32(fr, &st->fr.ls, v_end, dfdv);
+}
+
+/* Force of the base spring-damper and of the piezo's reaction on the base (0 without a base). */
+static float base_force(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st)
+{
+    const ss_effects_config_f32_t *e = &cfg->effects;
+    if (e->base_mass_kg == 0.0f) {
+        return 0.0f;
+    }
+    const float w = 6.2831853f * e->base_freq_hz;
+    const float k_b = e->base_mass_kg * w * w;
+    const float c_b = 2.0f * e->base_damping_ratio * e->base_mass_kg * w;
+    const float x_b = st->fx.x_base_m;
+    const float v_b = st->fx.v_base_m_per_s;
+    /* the piezo pushes the rod with F_p and the base with -F_p */
+    const float f_piezo = cfg->piezo_stiffness_n_per_m * (st->x_p_m + x_b - st->x_rod_m) +
+                          cfg->piezo_damping_kg_per_s * (st->fx.xp_rate_m_per_s + v_b - st->v_rod_m_per_s);
+    return -k_b * x_b - c_b * v_b - f_piezo;
+}
+
+/* Half a step of friction (and load, and base forces) on every body. */
+static void half_kick(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st)
+{
+    const float half = 0.5f * cfg->dt_s;
+    const float inv_mr = 1.0f / cfg->rod_mass_kg;
+    const float inv_mc = 1.0f / cfg->slider_mass_kg;
+    st->v_rod_m_per_s -= st->force_n * inv_mr * half;
+    st->v_slider_m_per_s += (st->force_n + cfg->effects.load_n) * inv_mc * half;
+    if (cfg->effects.base_mass_kg != 0.0f) {
+        st->fx.v_base_m_per_s += base_force(cfg, st) / cfg->effects.base_mass_kg * half;
+    }
 }
 
 ss_status_t ss_actuator_init_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
@@ -133,7 +179,8 @@ ss_status_t ss_actuator_init_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
         return status;
     }
     st->drive_v = drive0_v;
-    st->x_p_m = cfg->piezo_gain_m_per_v * drive0_v;
+    ss_effects_init_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive0_v);
+    st->x_p_m = st->fx.strain_m;
     st->x_rod_m = st->x_p_m; /* static equilibrium: no friction at the virgin state */
     st->v_rod_m_per_s = 0.0f;
     st->x_slider.hi_m = 0.0f;
@@ -160,23 +207,28 @@ ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
     const float inv_mc = 1.0f / cfg->slider_mass_kg;
 
     /* kick: half a step of friction on both bodies */
-    st->v_rod_m_per_s -= st->force_n * inv_mr * half;
-    st->v_slider_m_per_s += st->force_n * inv_mc * half;
+    half_kick(cfg, st);
 
-    /* drift: exact flow of the rod under a piezo strain ramping linearly over the step.
-     * Its forced response is y(t) = x_p(t) - c b / k with b the ramp rate; the rest is free. */
-    const float x_p1 = cfg->piezo_gain_m_per_v * drive_v;
-    const float b = (x_p1 - st->x_p_m) / dt;
+    /* drift: exact flow of the rod under a piezo anchor (strain plus base) ramping linearly over
+     * the step. Its forced response is y(t) = a(t) - c b / k with b the ramp rate; the rest is free. */
+    const float x_p1 = ss_effects_drive_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, dt);
+    const float x_b0 = st->fx.x_base_m;
+    const float x_b1 = x_b0 + st->fx.v_base_m_per_s * dt;
+    const float a0 = st->x_p_m + x_b0;
+    const float a1 = x_p1 + x_b1;
+    const float b = (a1 - a0) / dt;
     const float lag = cfg->piezo_damping_kg_per_s * b / cfg->piezo_stiffness_n_per_m;
-    const float e0 = st->x_rod_m - (st->x_p_m - lag);
+    const float e0 = st->x_rod_m - (a0 - lag);
     const float ed0 = st->v_rod_m_per_s - b;
     const float e1 = st->phi[0] * e0 + st->phi[1] * ed0;
     const float ed1 = st->phi[2] * e0 + st->phi[3] * ed0;
-    const float x_rod1 = (x_p1 - lag) + e1;
+    const float x_rod1 = (a1 - lag) + e1;
     const float dx_slider = st->v_slider_m_per_s * dt;
     const float dx_rel = (x_rod1 - st->x_rod_m) - dx_slider;
     st->x_rod_m = x_rod1;
     st->v_rod_m_per_s = b + ed1;
+    st->fx.xp_rate_m_per_s = (x_p1 - st->x_p_m) / dt;
+    st->fx.x_base_m = x_b1;
     position_add(&st->x_slider, dx_slider);
     st->x_p_m = x_p1;
     st->drive_v = drive_v;
@@ -184,18 +236,32 @@ ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
     /* Friction at the new state and at the velocity the step ends with. That velocity depends on
      * the closing kick, i.e. on the force: solve the linearised relation (implicit in the
      * damping terms, so a stiff sigma1 costs no stability). */
-    const float v_free = st->v_rod_m_per_s - st->v_slider_m_per_s; /* before the closing kick */
-    const float kick_per_n = half * (inv_mr + inv_mc);             /* relative dv per newton */
+    const float v_free = st->v_rod_m_per_s - st->v_slider_m_per_s -
+                         cfg->effects.load_n * inv_mc * half; /* before the closing kick */
+    const float kick_per_n = half * (inv_mr + inv_mc);        /* relative dv per newton */
     float dfdv = 0.0f;
     const float f_free = friction_step(cfg, st, dx_rel, v_free, &dfdv);
     const float denom = 1.0f + dfdv * kick_per_n;
+    const float f0 = st->force_n;
     st->force_n = (denom > 0.1f) ? f_free / denom : f_free;
+    if (cfg->effects.thermal_coeff_per_j != 0.0f) {
+        /* heat: the work friction takes from the relative motion less what the contact stores
+         * elastically (F^2 / 2 sigma0): zero in elastic presliding, F dx in gross sliding */
+        const float work = 0.5f * (f0 + st->force_n) * dx_rel;
+        const float stored = (st->force_n * st->force_n - f0 * f0) / (2.0f * cfg->friction.sigma0_n_per_m);
+        ss_effects_heat_f32(&cfg->effects, &st->fx, work - stored, dt);
+    }
 
     /* kick */
-    st->v_rod_m_per_s -= st->force_n * inv_mr * half;
-    st->v_slider_m_per_s += st->force_n * inv_mc * half;
+    half_kick(cfg, st);
     st->steps++;
     return SS_OK;
+}
+
+void ss_actuator_place_slider_f32(ss_actuator_state_f32_t *st, float x_m)
+{
+    st->x_slider.hi_m = x_m;
+    st->x_slider.lo_m = 0.0f;
 }
 
 void ss_actuator_record_f32(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
@@ -231,6 +297,9 @@ void ss_actuator_record_f32(const ss_actuator_config_f32_t *cfg, const ss_actuat
     }
     if (tr->state_b != NULL) {
         tr->state_b[row] = lugre ? st->fr.lugre.zdot_m_per_s : st->fr.ls.fm_n;
+    }
+    if (tr->x_meas_m != NULL) {
+        tr->x_meas_m[row] = ss_effects_sensor_f32(&cfg->effects, ss_position_value_f32(st->x_slider));
     }
 }
 

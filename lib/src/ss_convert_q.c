@@ -44,6 +44,10 @@ static ss_status_t friction_to_q(const ss_friction_config_f32_t *in, int prefixe
             return SS_ERR_RANGE;
         }
     }
+    if (in->asymmetry != 0.0f) { /* the q family has no effects (yet): refuse, never ignore */
+        *bad = prefixed ? "friction.asymmetry" : "asymmetry";
+        return SS_ERR_RANGE;
+    }
     out->fs_q24 = (int32_t)v[0];
     out->fc_q24 = (int32_t)v[1];
     out->vs_q28 = (int32_t)v[2];
@@ -112,6 +116,22 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
     if (out == NULL) {
         *bad = "out";
         return SS_ERR_NULL;
+    }
+    /* the q family models no effects (yet): a config that asks for one is refused, never run
+     * without it. A zeroed effects struct is the base model. */
+    static const char *const effect_names[] = {"effects.hysteresis_alpha", "effects.creep_ratio",
+                                               "effects.load_n",           "effects.friction_gradient_per_m",
+                                               "effects.slew_v_per_s",     "effects.thermal_coeff_per_j",
+                                               "effects.base_mass_kg",     "effects.sensor_scale_error"};
+    const float switches[] = {in->effects.hysteresis_alpha, in->effects.creep_ratio,
+                              in->effects.load_n,           in->effects.friction_gradient_per_m,
+                              in->effects.slew_v_per_s,     in->effects.thermal_coeff_per_j,
+                              in->effects.base_mass_kg,     in->effects.sensor_scale_error};
+    for (size_t i = 0; i < sizeof switches / sizeof switches[0]; ++i) {
+        if (switches[i] != 0.0f) {
+            *bad = effect_names[i];
+            return SS_ERR_RANGE;
+        }
     }
     const double i32max = 2147483647.0;
     int64_t v = 0;

@@ -157,12 +157,13 @@ float ss_ls_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_ls_state_
     const float vp = v_m_per_s * share;
     const float g = ss_stribeck_f32(cfg, vp);
     const float zdot = vp * (1.0f - st->level_n / g); /* LuGre's dz/dt once sliding, sigma0 z = s */
+    const float asym = ss_asymmetry_factor_f32(cfg, st->fm_n);
     if (dfdv_ns_per_m != NULL) {
         const float dzdvp =
             (1.0f - st->level_n / g) + vp * st->level_n * ss_stribeck_slope_f32(cfg, vp) / (g * g);
-        *dfdv_ns_per_m = cfg->sigma1_ns_per_m * share * dzdvp + cfg->sigma2_ns_per_m;
+        *dfdv_ns_per_m = asym * cfg->sigma1_ns_per_m * share * dzdvp + cfg->sigma2_ns_per_m;
     }
-    return (st->level_n / cfg->fs_n) * st->fm_n + cfg->sigma1_ns_per_m * zdot +
+    return asym * ((st->level_n / cfg->fs_n) * st->fm_n + cfg->sigma1_ns_per_m * zdot) +
            cfg->sigma2_ns_per_m * v_m_per_s;
 }
 

@@ -53,12 +53,13 @@ float ss_lugre_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_lugre_
     const float g = ss_stribeck_f32(cfg, v);
     const float k = cfg->sigma0_n_per_m * st->z_m / g; /* sigma0 z / g */
     const float zdot = v - fabsf(v) * k;
+    const float asym = ss_asymmetry_factor_f32(cfg, st->z_m);
     if (dfdv_ns_per_m != NULL) {
         /* d(dz/dt)/dv = 1 - sgn(v) sigma0 z / g + |v| sigma0 z g' / g^2 */
         const float dzdv = 1.0f - ss_sign_f32(v) * k + fabsf(v) * k * ss_stribeck_slope_f32(cfg, v) / g;
-        *dfdv_ns_per_m = cfg->sigma1_ns_per_m * dzdv + cfg->sigma2_ns_per_m;
+        *dfdv_ns_per_m = asym * cfg->sigma1_ns_per_m * dzdv + cfg->sigma2_ns_per_m;
     }
-    return cfg->sigma0_n_per_m * st->z_m + cfg->sigma1_ns_per_m * zdot + cfg->sigma2_ns_per_m * v;
+    return asym * (cfg->sigma0_n_per_m * st->z_m + cfg->sigma1_ns_per_m * zdot) + cfg->sigma2_ns_per_m * v;
 }
 
 ss_status_t ss_lugre_run_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, const float *dx_m,

@@ -177,9 +177,9 @@ static void test_run_matches_manual_steps(void **unused)
     ss_actuator_init_f32(&c, &b, 0.0f);
     enum { N = 4000, DEC = 7, ROWS = N / DEC };
     static uint32_t step[ROWS];
-    static float col[9][ROWS];
+    static float col[10][ROWS];
     ss_actuator_trace_f32_t tr = {step,   col[0], col[1], col[2], col[3], col[4],
-                                  col[5], col[6], col[7], col[8], ROWS};
+                                  col[5], col[6], col[7], col[8], col[9], ROWS};
     uint32_t rows = 0;
     assert_int_equal(ss_actuator_run_f32(&c, &a, &w, &wa, N, DEC, &tr, &rows), SS_OK);
     assert_int_equal(rows, ROWS);

@@ -68,6 +68,19 @@ static void test_converter_names_bad_fields(void **unused)
         assert_int_not_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_OK);
         assert_string_equal(bad, cases[i].name);
     }
+    /* effects the q family does not model are refused by name, never silently dropped */
+    c = ok;
+    c.friction.asymmetry = 0.1f;
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.asymmetry");
+    c = ok;
+    c.effects.load_n = 0.2f;
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "effects.load_n");
+    c = ok;
+    c.effects.sensor_scale_error = 0.01f;
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "effects.sensor_scale_error");
     c = ok;
     c.friction.sigma1_ns_per_m = NAN;
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_NONFINITE);

@@ -1,0 +1,125 @@
+#include "ss_effects.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include "ss_check.h"
+
+/* Friction never scales below this share of its nominal value: a scaled Fs stays positive. */
+#define SS_EFFECTS_MIN_FRICTION_SCALE 0.1f
+
+ss_effects_config_f32_t ss_effects_config_none_f32(void)
+{
+    ss_effects_config_f32_t c;
+    c.hysteresis_alpha = 0.0f;
+    c.hysteresis_width_m = 0.0f;
+    c.creep_ratio = 0.0f;
+    c.creep_tau_s = 0.0f;
+    c.load_n = 0.0f;
+    c.friction_gradient_per_m = 0.0f;
+    c.slew_v_per_s = 0.0f;
+    c.thermal_coeff_per_j = 0.0f;
+    c.thermal_tau_s = 0.0f;
+    c.base_mass_kg = 0.0f;
+    c.base_freq_hz = 0.0f;
+    c.base_damping_ratio = 0.0f;
+    c.sensor_scale_error = 0.0f;
+    return c;
+}
+
+ss_status_t ss_effects_config_check_f32(const ss_effects_config_f32_t *c, const char **bad_field)
+{
+    *bad_field = "";
+    if (c == NULL) {
+        *bad_field = "effects";
+        return SS_ERR_NULL;
+    }
+    /* The companion of a switched-off effect is not used and may be anything finite (0 included). */
+    const float big = 3.0e38f;
+    const int hyst = c->hysteresis_alpha != 0.0f;
+    const int creep = c->creep_ratio != 0.0f;
+    const int slew = c->slew_v_per_s != 0.0f;
+    const int thermal = c->thermal_coeff_per_j != 0.0f;
+    const int base = c->base_mass_kg != 0.0f;
+    const ss_range_f32_t ranges[] = {
+        {"effects.hysteresis_alpha", c->hysteresis_alpha, 0.0f, 0.9f},
+        {"effects.hysteresis_width_m", c->hysteresis_width_m, hyst ? 1e-12f : -big, hyst ? 1e-3f : big},
+        {"effects.creep_ratio", c->creep_ratio, 0.0f, 1.0f},
+        {"effects.creep_tau_s", c->creep_tau_s, creep ? 1e-5f : -big, creep ? 1e4f : big},
+        {"effects.load_n", c->load_n, -1e3f, 1e3f},
+        {"effects.friction_gradient_per_m", c->friction_gradient_per_m, -1e5f, 1e5f},
+        {"effects.slew_v_per_s", c->slew_v_per_s, slew ? 1e2f : 0.0f, slew ? 1e12f : 0.0f},
+        {"effects.thermal_coeff_per_j", c->thermal_coeff_per_j, -1e6f, 1e6f},
+        {"effects.thermal_tau_s", c->thermal_tau_s, thermal ? 1e-4f : -big, thermal ? 1e6f : big},
+        {"effects.base_mass_kg", c->base_mass_kg, base ? 1e-4f : 0.0f, base ? 1e3f : 0.0f},
+        {"effects.base_freq_hz", c->base_freq_hz, base ? 10.0f : -big, base ? 1e5f : big},
+        {"effects.base_damping_ratio", c->base_damping_ratio, base ? 0.0f : -big, base ? 2.0f : big},
+        {"effects.sensor_scale_error", c->sensor_scale_error, -0.5f, 0.5f},
+    };
+    return ss_check_ranges_f32(ranges, sizeof ranges / sizeof ranges[0], bad_field);
+}
+
+void ss_effects_init_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f32_t *st, float gain_m_per_v,
+                         float v0_v)
+{
+    st->amp_v = v0_v;
+    st->creep_v = v0_v;
+    st->strain_m = gain_m_per_v * (v0_v + cfg->creep_ratio * v0_v);
+    st->hysteresis_m = 0.0f;
+    st->heat_j = 0.0f;
+    st->x_base_m = 0.0f;
+    st->v_base_m_per_s = 0.0f;
+    st->xp_rate_m_per_s = 0.0f;
+}
+
+float ss_effects_drive_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f32_t *st, float gain_m_per_v,
+                           float command_v, float dt_s)
+{
+    /* amplifier: a slew-rate limit on the output voltage */
+    float amp = command_v;
+    if (cfg->slew_v_per_s > 0.0f) {
+        const float max_dv = cfg->slew_v_per_s * dt_s;
+        const float dv = command_v - st->amp_v;
+        amp = st->amp_v + ((dv > max_dv) ? max_dv : ((dv < -max_dv) ? -max_dv : dv));
+    }
+    st->amp_v = amp;
+    /* creep: w follows the voltage with time constant tau (exact for a voltage held over dt) */
+    float u = amp;
+    if (cfg->creep_ratio > 0.0f) {
+        st->creep_v = amp + (st->creep_v - amp) * expf(-dt_s / cfg->creep_tau_s);
+        u += cfg->creep_ratio * st->creep_v;
+    }
+    u *= gain_m_per_v;
+    /* Bouc-Wen, rate independent: over a monotone du, h relaxes to sgn(du) alpha width over the
+     * strain distance width (exact solution of dh/du = alpha - sgn(du) h / width) */
+    if (cfg->hysteresis_alpha > 0.0f) {
+        const float du = u - st->strain_m;
+        const float h_inf = ss_sign_f32(du) * cfg->hysteresis_alpha * cfg->hysteresis_width_m;
+        st->hysteresis_m = h_inf + (st->hysteresis_m - h_inf) * expf(-fabsf(du) / cfg->hysteresis_width_m);
+    }
+    st->strain_m = u;
+    return u - st->hysteresis_m;
+}
+
+float ss_effects_friction_scale_f32(const ss_effects_config_f32_t *cfg, const ss_effects_state_f32_t *st,
+                                    float x_slider_m)
+{
+    const float s =
+        (1.0f + cfg->friction_gradient_per_m * x_slider_m) * (1.0f - cfg->thermal_coeff_per_j * st->heat_j);
+    return (s > SS_EFFECTS_MIN_FRICTION_SCALE) ? s : SS_EFFECTS_MIN_FRICTION_SCALE;
+}
+
+void ss_effects_heat_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f32_t *st, float energy_j,
+                         float dt_s)
+{
+    if (cfg->thermal_coeff_per_j == 0.0f) {
+        return;
+    }
+    /* dissipation is never negative; a negative balance is the elastic model's approximation */
+    st->heat_j = st->heat_j * expf(-dt_s / cfg->thermal_tau_s) + ((energy_j > 0.0f) ? energy_j : 0.0f);
+}
+
+float ss_effects_sensor_f32(const ss_effects_config_f32_t *cfg, float x_slider_m)
+{
+    return (1.0f + cfg->sensor_scale_error) * x_slider_m;
+}
