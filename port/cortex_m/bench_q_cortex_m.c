@@ -1,0 +1,65 @@
+/* Instruction count of one fixed-point actuator step on the emulated Cortex-M, as bench_cortex_m.c
+ * for the float family: under QEMU -icount shift=0 one instruction takes one ns of virtual time, so
+ * elapsed virtual ns = instructions executed. Integer only, like the model it times (no printf:
+ * ss_fmt.h). Prints one line per friction model and exits (bench/firmware_bench.sh). */
+#include <stddef.h>
+#include <stdint.h>
+
+#include "ss_actuator_q.h"
+#include "ss_fmt.h"
+#include "ss_port_cortex_m.h"
+
+#define BENCH_STEPS 20000u
+#define BENCH_RISE_Q32 4080218880u /* the float32 0.95f the host converts, as main_q_cortex_m.c */
+
+static void print(const ss_port_link_t *link, const char *line, size_t n)
+{
+    (void)link->write(link->ctx, (const uint8_t *)line, n);
+}
+
+int main(void)
+{
+    const ss_port_link_t *link = ss_cortex_m_init();
+    static const char *const names[2] = {"ls", "lugre"};
+    for (int32_t m = 0; m < 2; ++m) {
+        ss_actuator_config_q_t cfg = ss_actuator_config_table1_q();
+        cfg.friction_model = m;
+        const ss_waveform_config_q_t w =
+            ss_waveform_sawtooth_q(500000u, 100 * 65536, 0, BENCH_RISE_Q32, 1, 1000u);
+        ss_waveform_state_q_t ws;
+        static ss_actuator_state_q_t st;
+        int ok = ss_waveform_init_q(&w, cfg.dt_q40, &ws) == SS_OK;
+        ok = ok && ss_actuator_init_q(&cfg, &st, ss_waveform_value_q(&w, &ws)) == SS_OK;
+        uint32_t rows = 0;
+        /* the loop alone (waveform player), to subtract */
+        volatile int32_t sink = 0;
+        const uint64_t t0 = link->time_us(link->ctx);
+        for (uint32_t i = 0; i < BENCH_STEPS; ++i) {
+            ss_waveform_advance_q(&ws);
+            sink = ss_waveform_value_q(&w, &ws);
+        }
+        const uint64_t t1 = link->time_us(link->ctx);
+        ok = ok && ss_waveform_init_q(&w, cfg.dt_q40, &ws) == SS_OK;
+        ok = ok && ss_actuator_run_q(&cfg, &st, &w, &ws, BENCH_STEPS, 1u, NULL, &rows) == SS_OK;
+        const uint64_t t2 = link->time_us(link->ctx);
+        (void)sink;
+        char line[160];
+        size_t n = 0;
+        ss_fmt_put_str(line, &n, "bench q ");
+        ss_fmt_put_str(line, &n, names[m]);
+        ss_fmt_put_str(line, &n, ": ");
+        ss_fmt_put_i64(line, &n, BENCH_STEPS);
+        ss_fmt_put_str(line, &n, " steps, ");
+        ss_fmt_put_i64(line, &n, (int64_t)((t2 - t1) * 1000u / BENCH_STEPS));
+        ss_fmt_put_str(line, &n, " instructions per step with the waveform, ");
+        ss_fmt_put_i64(line, &n, (int64_t)((t1 - t0) * 1000u / BENCH_STEPS));
+        ss_fmt_put_str(line, &n,
+                       ok ? " for the waveform alone\n" : " for the waveform alone (MODEL ERROR)\n");
+        print(link, line, n);
+        if (!ok) {
+            ss_cortex_m_exit(1);
+        }
+    }
+    ss_cortex_m_exit(0);
+    return 0;
+}
