@@ -33,6 +33,41 @@ static void test_exp_neg_error_bound(void **unused)
     assert_int_equal(ss_exp_neg_q16_q30(INT32_MAX), 0);
 }
 
+/* The kernel as first written, dividing by n (a 64-bit division): the reference for its speed-up. */
+static int32_t exp_neg_plain_division(int32_t x_q16)
+{
+    if (x_q16 <= 0) {
+        return SS_Q30_ONE;
+    }
+    const int64_t y = (int64_t)x_q16 * 1549082005LL;
+    const int64_t k = y >> 46;
+    if (k >= 31) {
+        return 0;
+    }
+    const int64_t u = ((y >> 16) & (SS_Q30_ONE - 1)) - ((int64_t)1 << 29);
+    const int64_t uw = u * 744261118LL; /* floor division by 2^30 without shifting a negative */
+    const int64_t w = -(uw >= 0 ? uw / SS_Q30_ONE : -((-uw + SS_Q30_ONE - 1) / SS_Q30_ONE));
+    int64_t p = SS_Q30_ONE;
+    for (int n = 7; n >= 1; --n) {
+        const int64_t wp = w * p;
+        p = SS_Q30_ONE + (wp >= 0 ? wp / SS_Q30_ONE : -((-wp + SS_Q30_ONE - 1) / SS_Q30_ONE)) / n;
+    }
+    const int64_t r = (p * 759250125LL) >> 30;
+    return (int32_t)((r + (k > 0 ? ((int64_t)1 << (k - 1)) : 0)) >> k);
+}
+
+/* The reciprocal multiplies (div_small in ss_fixed.c) change no bit: every Q16.16 input up to
+ * where the result is 0 (x = 21.5), against the plain division. */
+static void test_exp_neg_bits_of_plain_division(void **unused)
+{
+    (void)unused;
+    for (int32_t x = 0; x < 22 * SS_Q16_ONE; ++x) {
+        if (ss_exp_neg_q16_q30(x) != exp_neg_plain_division(x)) {
+            fail_msg("x = %d: %d, plain division %d", x, ss_exp_neg_q16_q30(x), exp_neg_plain_division(x));
+        }
+    }
+}
+
 /* The Q32 argument: same bound plus the linearised tail (2^-33) and rounding (2^-31), and
  * 1 - exp(-x) resolved for x far below the Q16 quantum (the Masing branch after a reversal). */
 static void test_exp_neg_q32_error_bound(void **unused)
@@ -58,6 +93,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sat32),
         cmocka_unit_test(test_exp_neg_error_bound),
+        cmocka_unit_test(test_exp_neg_bits_of_plain_division),
         cmocka_unit_test(test_exp_neg_q32_error_bound),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
