@@ -108,10 +108,13 @@ static void rod_flow(const ss_actuator_config_f32_t *cfg, float phi[4])
 static float friction_step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float dx,
                            float v_end, float *dfdv)
 {
-    const float scale =
-        ss_effects_friction_scale_f32(&cfg->effects, &st->fx, ss_position_value_f32(st->x_slider));
     ss_friction_config_f32_t scaled;
     const ss_friction_config_f32_t *fr = &cfg->friction;
+    const int scales =
+        cfg->effects.friction_gradient_per_m != 0.0f || cfg->effects.thermal_coeff_per_j != 0.0f;
+    const float scale =
+        scales ? ss_effects_friction_scale_f32(&cfg->effects, &st->fx, ss_position_value_f32(st->x_slider))
+               : 1.0f;
     if (scale != 1.0f) {
         scaled = cfg->friction;
         scaled.fs_n *= scale;
@@ -145,11 +148,10 @@ static float base_force(const ss_actuator_config_f32_t *cfg, const ss_actuator_s
 }
 
 /* Half a step of friction (and load, and base forces) on every body. */
-static void half_kick(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st)
+static void half_kick(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float inv_mr,
+                      float inv_mc)
 {
     const float half = 0.5f * cfg->dt_s;
-    const float inv_mr = 1.0f / cfg->rod_mass_kg;
-    const float inv_mc = 1.0f / cfg->slider_mass_kg;
     st->v_rod_m_per_s -= st->force_n * inv_mr * half;
     st->v_slider_m_per_s += (st->force_n + cfg->effects.load_n) * inv_mc * half;
     if (cfg->effects.base_mass_kg != 0.0f) {
@@ -207,7 +209,7 @@ ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
     const float inv_mc = 1.0f / cfg->slider_mass_kg;
 
     /* kick: half a step of friction on both bodies */
-    half_kick(cfg, st);
+    half_kick(cfg, st, inv_mr, inv_mc);
 
     /* drift: exact flow of the rod under a piezo anchor (strain plus base) ramping linearly over
      * the step. Its forced response is y(t) = a(t) - c b / k with b the ramp rate; the rest is free. */
@@ -253,7 +255,7 @@ ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
     }
 
     /* kick */
-    half_kick(cfg, st);
+    half_kick(cfg, st, inv_mr, inv_mc);
     st->steps++;
     return SS_OK;
 }

@@ -75,6 +75,11 @@ void ss_effects_init_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f3
 float ss_effects_drive_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f32_t *st, float gain_m_per_v,
                            float command_v, float dt_s)
 {
+    if (cfg->slew_v_per_s == 0.0f && cfg->creep_ratio == 0.0f && cfg->hysteresis_alpha == 0.0f) {
+        st->amp_v = command_v; /* the base model's ideal strain, the same product */
+        st->strain_m = command_v * gain_m_per_v;
+        return st->strain_m;
+    }
     /* amplifier: a slew-rate limit on the output voltage */
     float amp = command_v;
     if (cfg->slew_v_per_s > 0.0f) {
@@ -86,7 +91,9 @@ float ss_effects_drive_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_
     /* creep: w follows the voltage with time constant tau (exact for a voltage held over dt) */
     float u = amp;
     if (cfg->creep_ratio > 0.0f) {
-        st->creep_v = amp + (st->creep_v - amp) * expf(-dt_s / cfg->creep_tau_s);
+        /* -expm1f: the share relaxed in one step (~dt / tau, 1e-5 and below) keeps its digits,
+         * where 1 - expf would round it to a few float steps and lose tau's gradient */
+        st->creep_v += (amp - st->creep_v) * -expm1f(-dt_s / cfg->creep_tau_s);
         u += cfg->creep_ratio * st->creep_v;
     }
     u *= gain_m_per_v;
@@ -116,7 +123,8 @@ void ss_effects_heat_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f3
         return;
     }
     /* dissipation is never negative; a negative balance is the elastic model's approximation */
-    st->heat_j = st->heat_j * expf(-dt_s / cfg->thermal_tau_s) + ((energy_j > 0.0f) ? energy_j : 0.0f);
+    const float loss = st->heat_j * -expm1f(-dt_s / cfg->thermal_tau_s); /* as in creep */
+    st->heat_j += ((energy_j > 0.0f) ? energy_j : 0.0f) - loss;
 }
 
 float ss_effects_sensor_f32(const ss_effects_config_f32_t *cfg, float x_slider_m)
