@@ -106,6 +106,75 @@ class ActuatorTrace(C.Structure):
 
 TRACE_COLUMNS = [f[0] for f in ActuatorTrace._fields_ if f[0] != "capacity"]
 
+
+# --- the fixed-point (_q) family: integer configs, made from the float ones by the library's
+# host-side converter (ss_convert_q.h); formats in docs/fixed-point.md
+
+
+class FrictionConfigQ(C.Structure):
+    _fields_ = [
+        (n, C.c_int32)
+        for n in ("fs_q24", "fc_q24", "vs_q28", "sigma0_n_per_m", "sigma1_q16", "sigma2_q16")
+    ]
+
+
+class ActuatorConfigQ(C.Structure):
+    _fields_ = [
+        ("dt_q40", C.c_int32),
+        ("piezo_gain_q48", C.c_int32),
+        ("friction_model", C.c_int32),
+        ("lag_q24", C.c_int32),
+        ("kick_rod_q40", C.c_int32),
+        ("kick_slider_q40", C.c_int32),
+        ("phi_q28", C.c_int32 * 4),
+        ("friction", FrictionConfigQ),
+    ]
+
+
+class WaveformConfigQ(C.Structure):
+    _fields_ = [
+        ("frequency_mhz", C.c_uint32),
+        ("amplitude_q16", C.c_int32),
+        ("offset_q16", C.c_int32),
+        ("rise_q32", C.c_uint32),
+        ("direction", C.c_int32),
+        ("cycles", C.c_uint32),
+    ]
+
+
+_I32P = C.POINTER(C.c_int32)
+
+
+class ActuatorTraceQ(C.Structure):
+    _fields_ = [
+        ("step", C.POINTER(C.c_uint32)),
+        ("drive_q16", _I32P),
+        ("x_p_q40", _I32P),
+        ("x_rod_q40", _I32P),
+        ("x_slider_q40", C.POINTER(C.c_int64)),
+        ("v_rod_q28", _I32P),
+        ("v_slider_q28", _I32P),
+        ("force_q24", _I32P),
+        ("state_a", _I32P),
+        ("state_b", _I32P),
+        ("capacity", C.c_uint32),
+    ]
+
+
+# column -> (numpy dtype, SI scale); state_a/state_b scales depend on the friction model
+TRACE_Q_COLUMNS = {
+    "step": (np.uint32, 1.0),
+    "drive_q16": (np.int32, 2.0**-16),
+    "x_p_q40": (np.int32, 2.0**-40),
+    "x_rod_q40": (np.int32, 2.0**-40),
+    "x_slider_q40": (np.int64, 2.0**-40),
+    "v_rod_q28": (np.int32, 2.0**-28),
+    "v_slider_q28": (np.int32, 2.0**-28),
+    "force_q24": (np.int32, 2.0**-24),
+    "state_a": (np.int32, None),
+    "state_b": (np.int32, None),
+}
+
 # ids of ss_abi.h
 _ABI = {
     FrictionConfig: 0,
@@ -113,7 +182,12 @@ _ABI = {
     WaveformConfig: 3,
     ActuatorTrace: 7,
     EffectsConfig: 20,
+    FrictionConfigQ: 8,
+    ActuatorConfigQ: 9,
+    WaveformConfigQ: 11,
+    ActuatorTraceQ: 15,
 }
+_ABI_ACTUATOR_STATE_Q, _ABI_WAVEFORM_STATE_Q = 10, 12
 _ABI_ACTUATOR_STATE, _ABI_WAVEFORM_STATE, _ABI_LS_STATE, _ABI_LUGRE_STATE = 2, 4, 5, 6
 
 
@@ -188,6 +262,44 @@ for _m in ("ls", "lugre"):
         f"ss_{_m}_run_f32", C.c_int, C.POINTER(FrictionConfig), _P, _FP, C.c_uint32, C.c_float, _FP
     )
 
+_proto(
+    "ss_actuator_config_to_q",
+    C.c_int,
+    C.POINTER(ActuatorConfig),
+    C.POINTER(ActuatorConfigQ),
+    C.POINTER(C.c_char_p),
+)
+_proto(
+    "ss_waveform_config_to_q",
+    C.c_int,
+    C.POINTER(WaveformConfig),
+    C.POINTER(WaveformConfigQ),
+    C.POINTER(C.c_char_p),
+)
+_proto("ss_waveform_init_q", C.c_int, C.POINTER(WaveformConfigQ), C.c_int32, _P)
+_proto("ss_waveform_value_q", C.c_int32, C.POINTER(WaveformConfigQ), _P)
+_proto("ss_actuator_init_q", C.c_int, C.POINTER(ActuatorConfigQ), _P, C.c_int32)
+_proto(
+    "ss_actuator_record_q",
+    None,
+    C.POINTER(ActuatorConfigQ),
+    _P,
+    C.POINTER(ActuatorTraceQ),
+    C.c_uint32,
+)
+_proto(
+    "ss_actuator_run_q",
+    C.c_int,
+    C.POINTER(ActuatorConfigQ),
+    _P,
+    C.POINTER(WaveformConfigQ),
+    _P,
+    C.c_uint32,
+    C.c_uint32,
+    C.POINTER(ActuatorTraceQ),
+    C.POINTER(C.c_uint32),
+)
+
 for _struct, _id in _ABI.items():
     if lib.ss_abi_sizeof(_id) != C.sizeof(_struct):
         raise ImportError(
@@ -261,4 +373,34 @@ def trace_for(columns: dict[str, np.ndarray], capacity: int) -> ActuatorTrace:
             tr.step = arr.ctypes.data_as(C.POINTER(C.c_uint32))
         else:
             setattr(tr, name, float_ptr(arr))
+    return tr
+
+
+def to_q(cfg: ActuatorConfig, wave: WaveformConfig) -> tuple[ActuatorConfigQ, WaveformConfigQ]:
+    """The fixed-point configs for float ones, by the library's converter; NativeError names the
+    field that does not fit its Q format (or an effect the q family does not model)."""
+    cq, wq, bad = ActuatorConfigQ(), WaveformConfigQ(), C.c_char_p()
+    status = lib.ss_actuator_config_to_q(C.byref(cfg), C.byref(cq), C.byref(bad))
+    if status != SS_OK:
+        raise NativeError(status, f"q variant: parameter {(bad.value or b'?').decode()}")
+    status = lib.ss_waveform_config_to_q(C.byref(wave), C.byref(wq), C.byref(bad))
+    if status != SS_OK:
+        raise NativeError(status, f"q variant: waveform {(bad.value or b'?').decode()}")
+    return cq, wq
+
+
+def new_actuator_state_q() -> C.Array:
+    return opaque(_ABI_ACTUATOR_STATE_Q)
+
+
+def new_waveform_state_q() -> C.Array:
+    return opaque(_ABI_WAVEFORM_STATE_Q)
+
+
+def trace_q_for(columns: dict[str, np.ndarray], capacity: int) -> ActuatorTraceQ:
+    tr = ActuatorTraceQ()
+    tr.capacity = capacity
+    pointer_types = {f[0]: f[1] for f in ActuatorTraceQ._fields_}
+    for name, arr in columns.items():
+        setattr(tr, name, arr.ctypes.data_as(pointer_types[name]))  # type: ignore[type-var]
     return tr

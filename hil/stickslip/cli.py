@@ -1,4 +1,4 @@
-"""The `stickslip` command: simulate, figures (more subcommands as the toolkit grows)."""
+"""The `stickslip` command: simulate, figures, hil, diagnose."""
 
 from __future__ import annotations
 
@@ -6,13 +6,15 @@ import argparse
 import contextlib
 import json
 import math
+import os
 import sys
+import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .model import MODELS, Sawtooth, simulate
+from .model import MODELS, VARIANTS, Sawtooth, simulate
 
 
 class CliError(Exception):
@@ -86,7 +88,9 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     if a.dataset:
         return _simulate_dataset(a)
     w = _waveform(a)
-    r = simulate(w, model=a.model, dt_s=a.dt_s, hold_s=a.hold_s, decimation=a.decimation)
+    r = simulate(
+        w, model=a.model, dt_s=a.dt_s, hold_s=a.hold_s, decimation=a.decimation, variant=a.variant
+    )
     if a.out:
         r.to_csv(a.out)
     s = r.summary()
@@ -96,7 +100,7 @@ def cmd_simulate(a: argparse.Namespace) -> int:
         print(json.dumps(s, indent=2))
     else:
         print(
-            f"{a.model}: {w.cycles} cycles at {w.frequency_hz:g} Hz, "
+            f"{a.model} ({a.variant}): {w.cycles} cycles at {w.frequency_hz:g} Hz, "
             f"fall {w.fall_time_s * 1e6:.1f} us: "
             f"mean step {s['mean_step_per_cycle_m'] * 1e6:.4f} um per cycle"
             + (f"; wrote {a.out}" if a.out else "")
@@ -106,6 +110,9 @@ def cmd_simulate(a: argparse.Namespace) -> int:
 
 def _simulate_dataset(a: argparse.Namespace) -> int:
     from . import dataset as D
+
+    if a.variant != "f32":
+        raise CliError("--dataset runs the f32 core (measured runs may need a sampled drive)")
 
     ds = D.load(a.dataset)
     out_dir = Path(a.out) if a.out else None
@@ -237,6 +244,62 @@ def cmd_hil_position(a: argparse.Namespace) -> int:
     return 0 if r.settle_time_s is not None else 1
 
 
+def cmd_hil_firmware_q(a: argparse.Namespace) -> int:
+    from .hil import firmware_q as FQ
+
+    try:
+        elf = FQ.q_firmware_elf(a.preset)
+    except FileNotFoundError as e:
+        raise CliError(str(e)) from None
+    run = FQ.run_q_firmware(elf)
+    header, rows = FQ.host_reference()
+    exact = all(run.header.get(k) == v for k, v in header.items()) and np.array_equal(
+        run.rows, rows
+    )
+    print(f"{elf}: {len(run.rows)} rows over the UART, {run.header['steps']} steps of 1 us")
+    per_cycle = FQ.STEPS_PER_CYCLE // FQ.EVERY
+    for k, step in enumerate(run.steps_m, start=1):
+        x_um = run.rows[k * per_cycle, 1] * 2.0**-40 * 1e6
+        print(f"  cycle {k}: slider at {x_um:8.4f} um, step {step * 1e6:.4f} um")
+    print("bit-exact with the host's fixed-point core: " + ("yes" if exact else "NO"))
+    return 0 if exact else 1
+
+
+def cmd_diagnose(a: argparse.Namespace) -> int:
+    from concurrent.futures import ProcessPoolExecutor
+
+    from .diagnosis.pipeline import diagnose
+    from .diagnosis.report import write_report
+
+    if a.workers < 1:
+        raise CliError(f"--workers must be >= 1, got {a.workers}")
+    t0 = time.perf_counter()
+
+    def say(msg: str) -> None:
+        if not a.quiet:
+            print(f"[{time.perf_counter() - t0:5.1f} s] {msg}", file=sys.stderr, flush=True)
+
+    with ProcessPoolExecutor(max_workers=a.workers) as ex:
+        d = diagnose(a.dataset, executor=ex, progress=say)
+    say("writing the report")
+    report = write_report(d, a.out)
+    j = d.to_json()
+    if a.json:
+        Path(a.json).parent.mkdir(parents=True, exist_ok=True)
+        Path(a.json).write_text(json.dumps(j, indent=2) + "\n")
+    verdict = ", ".join(j["causes"]) + (
+        " (unexplained residuals remain)" if j["unexplained"] else ""
+    )
+    rmse = {k: j[k]["validation_rmse_m"] * 1e9 for k in ("nominal", "baseline", "extended")}
+    print(
+        f"causes: {verdict}; validation RMSE nominal {rmse['nominal']:.1f} nm,"
+        f" calibrated {rmse['baseline']:.1f} nm, extended {rmse['extended']:.1f} nm"
+        f" (noise {d.noise_m * 1e9:.1f} nm); gain {j['gain']:.3f}"
+    )
+    print(f"report: {report}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="stickslip", description="Simulate, test and identify stick-slip piezo actuators."
@@ -249,6 +312,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_waveform_options(s)
     s.add_argument("--model", choices=MODELS, default="ls", help="friction model (default ls)")
+    s.add_argument(
+        "--variant",
+        choices=VARIANTS,
+        default="f32",
+        help="f32: the float core; q: the fixed-point core (docs/fixed-point.md)",
+    )
     s.add_argument(
         "--dt-s", type=_finite("--dt-s"), default=1e-6, help="integration step (default 1e-6)"
     )
@@ -274,6 +343,24 @@ def build_parser() -> argparse.ArgumentParser:
     )
     f.add_argument("--out", default="out/figures", help="folder for the PNGs and figures.json")
     f.set_defaults(func=cmd_figures)
+    dg = sub.add_parser(
+        "diagnose",
+        help="what the simulation gets wrong on a measured dataset, its cause, and the gain",
+        description="Validate a stick-slip-dataset/1 folder, calibrate the model, fit every cause "
+        "of the catalog, rank them on held-out runs, and write a report and "
+        "stick-slip-diagnosis/1 JSON.",
+    )
+    dg.add_argument("dataset", help="dataset folder (with dataset.json)")
+    dg.add_argument("--out", default="out/diagnosis", help="folder for report.md and its plots")
+    dg.add_argument("--json", help="also write the diagnosis JSON here")
+    dg.add_argument(
+        "--workers",
+        type=int,
+        default=max(1, min(os.cpu_count() or 1, 8)),
+        help="local processes for the simulations (default: the CPU count)",
+    )
+    dg.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    dg.set_defaults(func=cmd_diagnose)
 
     h = sub.add_parser(
         "hil",
@@ -340,6 +427,17 @@ def build_parser() -> argparse.ArgumentParser:
     hp.add_argument("--url", help="serial node to use (default: start one)")
     hp.add_argument("--json", action="store_true")
     hp.set_defaults(func=cmd_hil_position)
+    hq = hs.add_parser(
+        "firmware-q",
+        help="run the fixed-point firmware in QEMU and check its staircase against the host",
+        description="Boot the fixed-point firmware image in qemu-system-arm: it plays the paper's "
+        "drive and sends the staircase over its UART, compared integer for integer with the "
+        "host's fixed-point core.",
+    )
+    hq.add_argument(
+        "--preset", choices=("cortex-m0plus", "cortex-m3", "cortex-m4f"), default="cortex-m0plus"
+    )
+    hq.set_defaults(func=cmd_hil_firmware_q)
     return p
 
 

@@ -13,6 +13,7 @@ import numpy as np
 from . import _native as N
 
 MODELS = ("ls", "lugre")
+VARIANTS = ("f32", "q")  # float32 core, fixed-point core (docs/fixed-point.md)
 
 
 def _model_id(model: str) -> int:
@@ -194,7 +195,8 @@ class Sawtooth:
 
 @dataclass
 class SimResult:
-    """One simulated run. Arrays are float64 copies of the C model's float32 outputs."""
+    """One simulated run. Arrays are float64 copies of the C model's outputs (float32, or the
+    fixed-point variant's integers scaled to SI)."""
 
     model: str
     dt_s: float
@@ -211,6 +213,7 @@ class SimResult:
     x_meas_m: np.ndarray
     waveform: Sawtooth | None = None
     meta: dict = field(default_factory=dict)
+    variant: str = "f32"
 
     @property
     def state_names(self) -> tuple[str, str]:
@@ -236,6 +239,7 @@ class SimResult:
     def summary(self) -> dict:
         s = {
             "model": self.model,
+            "variant": self.variant,
             "dt_s": self.dt_s,
             "duration_s": float(self.t_s[-1]),
             "final_slider_position_m": float(self.x_slider_m[-1]),
@@ -293,6 +297,40 @@ def _run_native(
     return cols
 
 
+def _run_native_q(
+    cfg, wave_cfg, n_steps: int, decimation: int, model: str
+) -> dict[str, np.ndarray]:
+    """The fixed-point core on the same run; columns converted to SI float64."""
+    cq, wq = N.to_q(cfg, wave_cfg)
+    rows = n_steps // decimation
+    cols = {k: np.zeros(rows + 1, dt) for k, (dt, _) in N.TRACE_Q_COLUMNS.items()}
+    st, wst = N.new_actuator_state_q(), N.new_waveform_state_q()
+    N.check(N.lib.ss_waveform_init_q(C.byref(wq), cq.dt_q40, wst), "q waveform")
+    v0 = N.lib.ss_waveform_value_q(C.byref(wq), wst)
+    N.check(N.lib.ss_actuator_init_q(C.byref(cq), st, v0), "q actuator parameters")
+    N.lib.ss_actuator_record_q(C.byref(cq), st, C.byref(N.trace_q_for(cols, rows + 1)), 0)
+    tr = N.trace_q_for({k: v[1:] for k, v in cols.items()}, rows)
+    written = C.c_uint32(0)
+    status = N.lib.ss_actuator_run_q(
+        C.byref(cq), st, C.byref(wq), wst, n_steps, decimation, C.byref(tr), C.byref(written)
+    )
+    N.check(status, f"q run stopped after {written.value * decimation} steps")
+    lugre = model == "lugre"
+    scales = {
+        "state_a": 2.0**-40 if lugre else 2.0**-24,
+        "state_b": 2.0**-28 if lugre else 2.0**-24,
+    }
+    out = {}
+    for k, (_, scale) in N.TRACE_Q_COLUMNS.items():
+        out[k] = cols[k].astype(np.float64) * (scale if scale is not None else scales[k])
+    names = {"drive_q16": "drive_v", "x_p_q40": "x_p_m", "x_rod_q40": "x_rod_m"}
+    names |= {"x_slider_q40": "x_slider_m", "v_rod_q28": "v_rod_m_per_s", "force_q24": "force_n"}
+    names |= {"v_slider_q28": "v_slider_m_per_s"}
+    res = {names.get(k, k): v for k, v in out.items()}
+    res["x_meas_m"] = res["x_slider_m"]  # the q family has no sensor model
+    return res
+
+
 def simulate(
     waveform: Sawtooth | None = None,
     params: ActuatorParams | None = None,
@@ -304,10 +342,14 @@ def simulate(
     drive_interval_s: float | None = None,
     effects: Effects | None = None,
     x0_m: float = 0.0,
+    variant: str = "f32",
 ) -> SimResult:
     """Simulate the actuator under a sawtooth, or under sampled drive voltages (drive_v at
     drive_interval_s, linearly interpolated), with the C model; effects switch on optional
-    physics, x0_m is where the slider starts."""
+    physics, x0_m is where the slider starts. variant "q" runs the fixed-point core (sawtooth
+    drive, no effects, slider starting at 0)."""
+    if variant not in VARIANTS:
+        raise ValueError(f"variant must be one of {VARIANTS}, got {variant!r}")
     params = params or ActuatorParams.table1()
     cfg = params.actuator_config(model, dt_s, effects)
     N.check_config(cfg)
@@ -337,9 +379,16 @@ def simulate(
         raise ValueError(f"run too long: {n_steps} steps")
     if not math.isfinite(x0_m):
         raise ValueError(f"x0_m must be finite, got {x0_m}")
-    cols = _run_native(cfg, wave_cfg, n_steps, decimation, x0_m)
+    if variant == "q":
+        if drive_v is not None:
+            raise ValueError("the q variant plays sawtooth waveforms only (no sampled drive)")
+        if x0_m != 0.0:
+            raise ValueError("the q variant starts the slider at 0 (x0_m must be 0)")
+        f64 = _run_native_q(cfg, wave_cfg, n_steps, decimation, model)
+    else:
+        cols = _run_native(cfg, wave_cfg, n_steps, decimation, x0_m)
+        f64 = {k: v.astype(np.float64) for k, v in cols.items()}
     del samples  # kept alive until the run is over
-    f64 = {k: v.astype(np.float64) for k, v in cols.items()}
     return SimResult(
         model=model,
         dt_s=dt_s,
@@ -355,6 +404,7 @@ def simulate(
         state_b=f64["state_b"],
         x_meas_m=f64["x_meas_m"],
         waveform=waveform if drive_v is None else None,
+        variant=variant,
     )
 
 

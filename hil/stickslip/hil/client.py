@@ -330,9 +330,10 @@ class HostNode:
 QEMU_TARGETS = {"qemu-m4f": ("mps2-an386", "cortex-m4f"), "qemu-m3": ("mps2-an385", "cortex-m3")}
 
 
-def firmware_elf(preset: str) -> Path:
-    """The firmware image of a CMake preset (cortex-m4f, cortex-m3): under $STICKSLIP_FIRMWARE_ROOT,
-    the current directory (a checkout) or the checkout this module runs from."""
+def firmware_elf(preset: str, image: str = "stickslip_fw.elf") -> Path:
+    """A firmware image of a CMake preset (cortex-m4f, cortex-m3, cortex-m0plus): under
+    $STICKSLIP_FIRMWARE_ROOT, the current directory (a checkout) or the checkout this module runs
+    from. The node is stickslip_fw.elf; the fixed-point staircase stickslip_q_fw.elf."""
     roots = [
         os.environ.get("STICKSLIP_FIRMWARE_ROOT"),
         Path.cwd(),
@@ -341,11 +342,11 @@ def firmware_elf(preset: str) -> Path:
     for root in roots:
         if root is None:
             continue
-        elf = Path(root) / "build" / preset / "port" / "cortex_m" / "stickslip_fw.elf"
+        elf = Path(root) / "build" / preset / "port" / "cortex_m" / image
         if elf.is_file():
             return elf
     raise FileNotFoundError(
-        f"build/{preset}/port/cortex_m/stickslip_fw.elf not found (run from the checkout, or set "
+        f"build/{preset}/port/cortex_m/{image} not found (run from the checkout, or set "
         f"STICKSLIP_FIRMWARE_ROOT): build it with cmake --preset {preset} && "
         f"cmake --build --preset {preset}"
     )
