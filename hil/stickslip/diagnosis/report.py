@@ -1,0 +1,267 @@
+"""The human side of a diagnosis: a Markdown report with PNG plots (measured against simulated
+position, per-cycle steps, residual signatures, candidates) next to the JSON."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .. import dataset as D  # noqa: E402
+from .catalog import CAUSES  # noqa: E402
+from .fit import Model, cycle_steps, predict  # noqa: E402
+from .pipeline import MIN_BIC_DROP, MIN_MSE_DROP_OVER_NOISE, Diagnosis  # noqa: E402
+
+
+def _signatures(runs: list[D.Run], model: Model) -> dict[str, np.ndarray]:
+    """Per-cycle step residual (simulated - measured, m) with the conditions of each cycle, and
+    the position residual against phase within the cycle. In metres rather than relative: runs
+    that hardly step (100 Hz) would otherwise drown the rest."""
+    rows: dict[str, list] = {k: [] for k in ("rel", "dir", "freq", "amp", "pos", "cycle", "tfrac")}
+    phase, pres = [], []
+    for run in runs:
+        if run.waveform is None:
+            continue
+        w = run.waveform
+        x = predict(run, model)
+        s_meas, s_sim = cycle_steps(run, run.x_m), cycle_steps(run, x)
+        k = np.arange(w.cycles)
+        starts = np.interp(k * w.period_s, run.t_s - run.t_s[0], run.x_m)
+        rows["rel"].extend(s_sim - s_meas)
+        rows["dir"].extend([w.direction] * w.cycles)
+        rows["freq"].extend([w.frequency_hz] * w.cycles)
+        rows["amp"].extend([w.amplitude_v] * w.cycles)
+        rows["pos"].extend(starts)
+        rows["cycle"].extend(k)
+        rows["tfrac"].extend(k / max(1, w.cycles - 1))
+        # within-cycle shape: residual minus its value at the cycle start
+        t = run.t_s - run.t_s[0]
+        inside = t < w.duration_s
+        cyc = np.floor(t[inside] / w.period_s).astype(int)
+        r = (x - run.x_m)[inside]
+        r0 = np.array([r[cyc == c][0] for c in range(w.cycles)])
+        phase.extend((t[inside] / w.period_s) % 1.0)
+        pres.extend(r - r0[cyc])
+    out = {k: np.asarray(v, float) for k, v in rows.items()}
+    out["phase"], out["phase_res"] = np.asarray(phase), np.asarray(pres)
+    return out
+
+
+def _plot_signatures(path: Path, sig: dict[str, np.ndarray], title: str) -> None:
+    fig, axes = plt.subplots(2, 3, figsize=(13, 7))
+    c = np.where(sig["dir"] > 0, "tab:blue", "tab:red")
+    panels = [
+        ("dir", "direction"),
+        ("freq", "frequency (Hz)"),
+        ("amp", "amplitude (V)"),
+        ("pos", "slider position at cycle start (um)"),
+        ("cycle", "cycle within run"),
+    ]
+    for ax, (key, label) in zip(axes.flat, panels):
+        xs = sig[key] * (1e6 if key == "pos" else 1.0)
+        jitter = 0.08 * (np.random.default_rng(0).random(len(xs)) - 0.5) if key == "dir" else 0
+        ax.scatter(xs + jitter, 1e9 * sig["rel"], s=6, c=c, alpha=0.6)
+        ax.axhline(0, color="k", lw=0.5)
+        ax.set_xlabel(label)
+        ax.set_ylabel("step error, simulated - measured (nm)")
+        if key == "freq":
+            ax.set_xscale("log")
+    ax = axes.flat[5]
+    bins = np.linspace(0, 1, 41)
+    idx = np.digitize(sig["phase"], bins) - 1
+    med = [np.median(sig["phase_res"][idx == i]) if np.any(idx == i) else np.nan for i in range(40)]
+    ax.plot(0.5 * (bins[1:] + bins[:-1]), 1e9 * np.asarray(med), "k.-")
+    ax.set_xlabel("phase within the cycle")
+    ax.set_ylabel("position residual since cycle start (nm)")
+    fig.suptitle(title + "  (blue: forward runs, red: reverse)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
+def write_report(d: Diagnosis, out_dir: str | Path) -> Path:
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    ds = D.load(d.dataset)
+    val = [r for r in ds.runs if r.id in d.val_ids]
+    models = {
+        "nominal": d.nominal_model,
+        "baseline": d.baseline.fit.model,
+        "extended": d.chosen.fit.model,
+    }
+
+    # 1. measured against simulated position on the validation runs
+    n = len(val)
+    cols = min(2, n)
+    rows = (n + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(6.5 * cols, 3.3 * rows), squeeze=False)
+    for ax, run in zip(axes.flat, val):
+        t = 1e3 * (run.t_s - run.t_s[0])
+        ax.plot(t, 1e6 * run.x_m, color="0.6", lw=2.5, label="measured")
+        for name, style in (("nominal", ":"), ("baseline", "--"), ("extended", "-")):
+            ax.plot(t, 1e6 * predict(run, models[name]), style, lw=1, label=name)
+        ax.set_title(run.id)
+        ax.set_xlabel("t (ms)")
+        ax.set_ylabel("slider (um)")
+    axes.flat[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out / "positions.png", dpi=90)
+    plt.close(fig)
+
+    # 2. per-cycle steps, every run
+    fig, ax = plt.subplots(figsize=(12, 4))
+    off = 0
+    ticks = []
+    for run in ds.runs:
+        sm = cycle_steps(run, run.x_m)
+        k = off + np.arange(len(sm))
+        ax.plot(k, 1e6 * sm, "k.", ms=4, label="measured" if off == 0 else None)
+        for name, style in (("baseline", "C1-"), ("extended", "C2-")):
+            ss = cycle_steps(run, predict(run, models[name]))
+            ax.plot(k, 1e6 * ss, style, lw=1, label=name if off == 0 else None)
+        ticks.append((off + len(sm) / 2, run.id + (" (val)" if run.id in d.val_ids else "")))
+        off += len(sm) + 3
+    ax.set_xticks([t for t, _ in ticks], [s for _, s in ticks], rotation=30, fontsize=7, ha="right")
+    ax.set_ylabel("step per cycle (um)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out / "steps.png", dpi=90)
+    plt.close(fig)
+
+    # 3. residual signatures of the calibrated base model and of the extended model
+    _plot_signatures(
+        out / "signatures_baseline.png",
+        _signatures(ds.runs, models["baseline"]),
+        "Residual signatures, calibrated base model",
+    )
+    if d.chosen.causes:
+        _plot_signatures(
+            out / "signatures_extended.png",
+            _signatures(ds.runs, models["extended"]),
+            "Residual signatures, extended model (" + " + ".join(d.chosen.causes) + ")",
+        )
+
+    j = d.to_json()
+    (out / "diagnosis.json").write_text(json.dumps(j, indent=2) + "\n")
+    (out / "report.md").write_text(_markdown(d, j))
+    return out / "report.md"
+
+
+def _nm(v: float) -> str:
+    return f"{v * 1e9:.3g} nm" if v < 1e-6 else f"{v * 1e6:.3g} um"
+
+
+def _markdown(d: Diagnosis, j: dict) -> str:
+    noise = d.noise_m
+    lines = [f"# Diagnosis of `{d.dataset}`", ""]
+    causes = j["causes"]
+    if causes == ["none"] and not d.unexplained:
+        verdict = (
+            "**No missing physics.** The base model, calibrated on this data, explains it down "
+            "to the measurement noise."
+        )
+    elif causes == ["parameter_miscalibration"]:
+        verdict = (
+            "**Parameter miscalibration, no missing physics.** The nominal parameters are off; "
+            "calibrated, the base model explains the data down to the noise."
+        )
+    elif causes == ["none"]:
+        verdict = (
+            "**Unexplained.** No cause in the catalog explains the residuals, which stay well "
+            "above the noise. The data holds something the catalog does not name."
+        )
+    else:
+        named = "; ".join(f"`{c}`: {CAUSES[c]}" for c in causes)
+        verdict = f"**Cause{'s' if len(causes) > 1 else ''}: {named}.**"
+        if d.unexplained:
+            verdict += " Even so, residuals stay well above the noise: part of it is unexplained."
+    lines += [verdict, ""]
+    lines += [
+        "| model | validation RMSE | RMSE / noise | step error |",
+        "|---|---|---|---|",
+    ]
+    for name in ("nominal", "baseline", "extended"):
+        b = j[name]
+        lines.append(
+            f"| {name} | {_nm(b['validation_rmse_m'])} | {b['validation_rmse_m'] / noise:.2f} | "
+            f"{100 * b['validation_step_error']:.2f} % |"
+        )
+    lines += [
+        "",
+        f"Gain of the extension over the calibrated base model: **{100 * j['gain']:.1f} %** of "
+        f"the validation RMSE. Noise: {_nm(noise)} RMS ({d.noise_source}).",
+        "",
+        f"Fitted on {', '.join(d.train_ids)}; every figure above is measured on the held-out "
+        f"runs {', '.join(d.val_ids)}.",
+        "",
+        "## Parameters",
+        "",
+        "| parameter | calibrated base | extended |",
+        "|---|---|---|",
+    ]
+    bp, ep = j["baseline"]["params"], j["extended"]["params"]
+    for k in sorted(set(bp) | set(ep)):
+        fmt = lambda v: "" if v is None else f"{v:.5g}"  # noqa: E731
+        lines.append(f"| {k} | {fmt(bp.get(k))} | {fmt(ep.get(k))} |")
+    lines += [
+        "",
+        "## Candidates (each fitted alone with the base parameters, ranked on the validation runs)",
+        "",
+        "BIC score on the validation runs, lower is better; a cause is kept when it lowers the "
+        f"score by more than {MIN_BIC_DROP:g} and the mean-square error by more than "
+        f"{100 * MIN_MSE_DROP_OVER_NOISE:g} % of the noise variance.",
+        "",
+        "| cause | validation RMSE | RMSE / noise | score | fitted |",
+        "|---|---|---|---|---|",
+        f"| (calibrated base) | {_nm(d.baseline.val.rmse_m)} | {d.baseline.val.rmse_m / noise:.2f}"
+        f" | {d.baseline.score:.1f} | |",
+    ]
+    for c in j["candidates"]:
+        ps = ", ".join(f"{k.split('.', 1)[1]}={v:.4g}" for k, v in c["params"].items())
+        lines.append(
+            f"| {c['name']} | {_nm(c['validation_rmse_m'])} | "
+            f"{c['validation_rmse_m'] / noise:.2f} | {c['score']:.1f} | {ps} |"
+        )
+    for i, rnd in enumerate(d.rounds[1:], start=2):
+        lines += ["", f"Round {i} (adding to the causes kept so far):", ""]
+        for c in rnd:
+            lines.append(f"- {' + '.join(c.causes)}: {_nm(c.val.rmse_m)}, score {c.score:.1f}")
+    lines += [
+        "",
+        "## What the simulation gets wrong",
+        "",
+        "Measured against simulated position on the validation runs:",
+        "",
+        "![positions](positions.png)",
+        "",
+        "Per-cycle step sizes, every run:",
+        "",
+        "![steps](steps.png)",
+        "",
+        "Residual signatures of the calibrated base model. Each physical cause leaves its own "
+        "pattern: a load or asymmetry splits the directions, a slew limit grows with frequency, "
+        "hysteresis depends on amplitude, position-dependent friction on where the slider is, "
+        "heat and creep on the time within a run.",
+        "",
+        "![signatures](signatures_baseline.png)",
+        "",
+    ]
+    if d.chosen.causes:
+        lines += [
+            "The same with the extended model:",
+            "",
+            "![signatures extended](signatures_extended.png)",
+            "",
+        ]
+    t = d.timing_s
+    lines += [
+        f"Wall time {t.get('total_s', 0):.1f} s (baseline {t.get('baseline_s', 0):.1f} s, "
+        f"candidates {t.get('candidates_s', 0):.1f} s, selection {t.get('selection_s', 0):.1f} s).",
+        "",
+    ]
+    return "\n".join(lines)
