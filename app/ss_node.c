@@ -2,6 +2,10 @@
 
 #include <math.h>
 
+#ifdef SS_NODE_MODEL_Q
+#include "ss_convert_q.h" /* float32 and SI at the node's edges */
+#endif
+
 /* Parameter table of docs/protocol.md: names (stick-slip-dataset/1), defaults (Table I) and the
  * ranges reported by PARAM_INFO. The library's own check has the last word on a SET_PARAM. */
 typedef struct {
@@ -85,23 +89,177 @@ static void send_reply(ss_node_t *n, uint8_t req_type, const uint8_t *body, size
     send_frame(n, (uint8_t)(req_type | SS_MSG_REPLY), p, len + 1u);
 }
 
-static void put_row(uint8_t *r, const ss_actuator_state_f32_t *st)
-{
-    ss_put_u32(r, st->steps);
-    ss_put_f32(r + 4, st->drive_v);
-    ss_put_f32(r + 8, st->x_rod_m);
-    ss_put_f32(r + 12, st->x_slider.hi_m);
-    ss_put_f32(r + 16, st->x_slider.lo_m);
-    ss_put_f32(r + 20, st->force_n);
-}
-
 /* ------------------------------------------------------------------ model */
 
-static void model_rest(ss_node_t *n, float drive0_v)
+/* The one place that knows which family the node runs (SS_NODE_MODEL_Q, ss_node.h): the rest of
+ * the application speaks float32 volts and SI telemetry, as the protocol does. */
+
+/* The state as a telemetry row sends it (docs/protocol.md): float32, SI. */
+typedef struct {
+    uint32_t steps;
+    float drive_v, x_rod_m, x_slider_hi_m, x_slider_lo_m, force_n;
+} si_row_t;
+
+#ifdef SS_NODE_MODEL_Q
+/* The q node may use float at its edges (protocol fields are float32, set_param converts through
+ * the host converter ss_convert_q): the no-float check applies to the q library and the q-only
+ * images, not to this application. Every conversion below gives the same bits on every target. */
+typedef int32_t drive_t; /* V in Q16.16 */
+
+/* float32 volts to Q16.16: floor(v 2^16 + 1/2) in double, saturated (ss_volts_to_q16, the
+ * converter's rule for amplitude and offset). v 2^16 and the + 1/2 are exact in double for every
+ * float32 v, and floor is exact, so the host and a soft-float target agree. */
+static drive_t drive_from_v(float v)
 {
-    (void)ss_actuator_init_f32(&n->cfg, &n->st, drive0_v);
+    return ss_volts_to_q16((double)v);
+}
+
+static float model_dt_s(const ss_node_t *n)
+{
+    return (float)n->cfg.dt_q40 * 0x1p-40f;
+}
+
+/* The config a parameter set gives: through the host converter (double and libm), so a target
+ * matches the host to the bit only where both round the same (docs/fixed-point.md). */
+static ss_status_t model_config(const ss_node_params_t *p, ss_node_config_t *out, const char **why)
+{
+    const ss_actuator_config_f32_t f = config_from(p);
+    return ss_actuator_config_to_q(&f, out, why);
+}
+
+static void model_init(ss_node_t *n, drive_t d)
+{
+    (void)ss_actuator_init_q(&n->cfg, &n->st, d);
+}
+
+static void model_step(ss_node_t *n, drive_t d)
+{
+    (void)ss_actuator_step_q(&n->cfg, &n->st, d);
+}
+
+static ss_status_t wave_convert(const ss_waveform_config_f32_t *w, ss_node_wave_t *out, const char **why)
+{
+    return ss_waveform_config_to_q(w, out, why);
+}
+
+static ss_status_t wave_init(const ss_node_t *n, const ss_node_wave_t *w, ss_node_wave_state_t *ws)
+{
+    return ss_waveform_init_q(w, n->cfg.dt_q40, ws);
+}
+
+static drive_t wave_value(const ss_node_wave_t *w, const ss_node_wave_state_t *ws)
+{
+    return ss_waveform_value_q(w, ws);
+}
+
+static void wave_advance(ss_node_wave_state_t *ws)
+{
+    ss_waveform_advance_q(ws);
+}
+
+/* Integer to float32 (round to nearest, ties to even: one rounding), then times a power of two
+ * (exact): the same bits on the host's SSE and a target's soft float. The slider is split into
+ * hi = float32(x) and lo = float32(x - hi), both times 2^-40, so hi + lo in double is x exactly
+ * while |x| < 2^48 (256 m). */
+static si_row_t model_row(const ss_node_t *n)
+{
+    const ss_actuator_state_q_t *st = &n->st;
+    const float hi = (float)st->x_slider_q40;
+    int64_t rest = 0;
+    const float two62 = 4611686018427387904.0f; /* 2^62 */
+    if (hi > -two62 && hi < two62) {            /* always, in practice; keeps the cast defined */
+        rest = st->x_slider_q40 - (int64_t)hi;
+    }
+    const si_row_t r = {st->steps,     (float)st->drive_q16 * 0x1p-16f, (float)st->x_rod_q40 * 0x1p-40f,
+                        hi * 0x1p-40f, (float)rest * 0x1p-40f,          (float)st->force_q24 * 0x1p-24f};
+    return r;
+}
+
+static ss_node_config_t model_default_config(void)
+{
+    return ss_actuator_config_table1_q(); /* integer constants: the same on every target */
+}
+#else
+typedef float drive_t; /* V */
+
+static drive_t drive_from_v(float v)
+{
+    return v;
+}
+
+static float model_dt_s(const ss_node_t *n)
+{
+    return n->cfg.dt_s;
+}
+
+static ss_status_t model_config(const ss_node_params_t *p, ss_node_config_t *out, const char **why)
+{
+    *out = config_from(p);
+    return ss_actuator_config_check_f32(out, why);
+}
+
+static void model_init(ss_node_t *n, drive_t d)
+{
+    (void)ss_actuator_init_f32(&n->cfg, &n->st, d);
+}
+
+static void model_step(ss_node_t *n, drive_t d)
+{
+    (void)ss_actuator_step_f32(&n->cfg, &n->st, d);
+}
+
+static ss_status_t wave_convert(const ss_waveform_config_f32_t *w, ss_node_wave_t *out, const char **why)
+{
+    (void)why;
+    *out = *w;
+    return SS_OK;
+}
+
+static ss_status_t wave_init(const ss_node_t *n, const ss_node_wave_t *w, ss_node_wave_state_t *ws)
+{
+    return ss_waveform_init_f32(w, n->cfg.dt_s, ws);
+}
+
+static drive_t wave_value(const ss_node_wave_t *w, const ss_node_wave_state_t *ws)
+{
+    return ss_waveform_value_f32(w, ws);
+}
+
+static void wave_advance(ss_node_wave_state_t *ws)
+{
+    ss_waveform_advance_f32(ws);
+}
+
+static si_row_t model_row(const ss_node_t *n)
+{
+    const ss_actuator_state_f32_t *st = &n->st;
+    const si_row_t r = {st->steps,         st->drive_v,       st->x_rod_m,
+                        st->x_slider.hi_m, st->x_slider.lo_m, st->force_n};
+    return r;
+}
+
+static ss_node_config_t model_default_config(void)
+{
+    return ss_actuator_config_table1_f32();
+}
+#endif
+
+static void put_row(uint8_t *b, const ss_node_t *n)
+{
+    const si_row_t r = model_row(n);
+    ss_put_u32(b, r.steps);
+    ss_put_f32(b + 4, r.drive_v);
+    ss_put_f32(b + 8, r.x_rod_m);
+    ss_put_f32(b + 12, r.x_slider_hi_m);
+    ss_put_f32(b + 16, r.x_slider_lo_m);
+    ss_put_f32(b + 20, r.force_n);
+}
+
+static void model_rest(ss_node_t *n, drive_t drive0)
+{
+    model_init(n, drive0);
     if (n->wave_loaded) {
-        (void)ss_waveform_init_f32(&n->wave, n->cfg.dt_s, &n->wst);
+        (void)wave_init(n, &n->wave, &n->wst);
     }
 }
 
@@ -122,10 +280,10 @@ void ss_node_init(ss_node_t *n, const ss_port_link_t *link)
     for (uint32_t i = 0; i < SS_NODE_N_PARAMS; ++i) {
         n->params.value[i] = PARAMS[i].def;
     }
-    n->cfg = config_from(&n->params);
+    n->cfg = model_default_config(); /* what config_from(PARAMS defaults) gives */
     n->wave_loaded = 0;
     n->tx_seq = 0;
-    model_rest(n, 0.0f);
+    model_rest(n, drive_from_v(0.0f));
     ss_node_session_reset(n);
 }
 
@@ -144,29 +302,33 @@ static ss_proto_error_t set_param(ss_node_t *n, uint32_t id, float v, const char
     }
     ss_node_params_t next = n->params;
     next.value[id] = v;
-    const ss_actuator_config_f32_t cfg = config_from(&next);
-    const ss_status_t st = ss_actuator_config_check_f32(&cfg, why);
+    ss_node_config_t cfg;
+    const ss_status_t st = model_config(&next, &cfg, why);
     if (st != SS_OK) {
         return (st == SS_ERR_NONFINITE) ? SS_PERR_NON_FINITE : SS_PERR_OUT_OF_RANGE;
     }
     n->params = next;
     n->cfg = cfg;
-    model_rest(n, n->wave_loaded ? ss_waveform_value_f32(&n->wave, &n->wst) : 0.0f);
+    model_rest(n, n->wave_loaded ? wave_value(&n->wave, &n->wst) : drive_from_v(0.0f));
     return SS_PERR_NONE;
 }
 
 /* Check and load a sawtooth; the model goes to rest at its start. */
 static ss_proto_error_t load_waveform(ss_node_t *n, const ss_waveform_config_f32_t *w, const char **why)
 {
-    ss_waveform_state_f32_t ws;
-    const ss_status_t st = ss_waveform_init_f32(w, n->cfg.dt_s, &ws);
-    if (st != SS_OK) {
+    ss_node_wave_t wm;
+    ss_node_wave_state_t ws;
+    ss_status_t st = wave_convert(w, &wm, why);
+    if (st == SS_OK) {
+        st = wave_init(n, &wm, &ws);
         *why = ss_status_str(st);
+    }
+    if (st != SS_OK) {
         return (st == SS_ERR_NONFINITE) ? SS_PERR_NON_FINITE : SS_PERR_OUT_OF_RANGE;
     }
-    n->wave = *w;
+    n->wave = wm;
     n->wave_loaded = 1;
-    model_rest(n, ss_waveform_value_f32(&n->wave, &ws));
+    model_rest(n, wave_value(&n->wave, &ws));
     return SS_PERR_NONE;
 }
 
@@ -192,9 +354,9 @@ static void handle_hello(ss_node_t *n)
     uint8_t b[8 + sizeof SS_NODE_VERSION];
     b[0] = (uint8_t)SS_PROTO_VERSION;
     b[1] = (uint8_t)n->cfg.friction_model;
-    b[2] = 0u; /* float32 variant */
+    b[2] = (uint8_t)SS_NODE_VARIANT;
     b[3] = (uint8_t)SS_NODE_N_PARAMS;
-    ss_put_f32(&b[4], n->cfg.dt_s);
+    ss_put_f32(&b[4], model_dt_s(n));
     size_t len = 8;
     for (const char *c = SS_NODE_VERSION; *c != '\0'; ++c) {
         b[len++] = (uint8_t)*c;
@@ -302,7 +464,7 @@ static void handle_reset(ss_node_t *n)
         send_error(n, SS_PERR_OUT_OF_RANGE, pk->type, pk->seq, "drive0_v", "outside [-1e5, 1e5] V");
         return;
     }
-    model_rest(n, v);
+    model_rest(n, drive_from_v(v));
     send_reply(n, SS_MSG_RESET, 0, 0);
 }
 
@@ -350,9 +512,9 @@ static void handle_drive_block(ss_node_t *n)
     uint32_t rows = 0;
     ss_put_u32(b, n->st.steps + dec);
     for (uint32_t i = 0; i < count; ++i) {
-        (void)ss_actuator_step_f32(&n->cfg, &n->st, ss_get_f32(&pk->payload[2u + 4u * i]));
+        model_step(n, drive_from_v(ss_get_f32(&pk->payload[2u + 4u * i])));
         if ((i + 1u) % dec == 0u) {
-            put_row(&b[6u + (size_t)SS_PROTO_ROW_BYTES * rows++], &n->st);
+            put_row(&b[6u + (size_t)SS_PROTO_ROW_BYTES * rows++], n);
         }
     }
     ss_put_u16(&b[4], (uint16_t)rows);
@@ -366,8 +528,8 @@ static uint64_t now_us(const ss_node_t *n)
 
 static void can_send_state(ss_node_t *n)
 {
-    const ss_can_state_t m = {n->st.steps,   n->st.drive_v,       n->st.x_rod_m,
-                              n->st.force_n, n->st.x_slider.hi_m, n->st.x_slider.lo_m};
+    const si_row_t r = model_row(n);
+    const ss_can_state_t m = {r.steps, r.drive_v, r.x_rod_m, r.force_n, r.x_slider_hi_m, r.x_slider_lo_m};
     ss_can_frame_t f[3];
     ss_can_pack_state(&m, f);
     for (int i = 0; i < 3; ++i) {
@@ -449,7 +611,7 @@ static void advance_run(ss_node_t *n)
     uint32_t todo = n->run_left;
     if (n->paced) {
         const uint64_t now = now_us(n);
-        const uint64_t due = (uint64_t)((float)(now - n->run_t0_us) / (n->cfg.dt_s * 1e6f));
+        const uint64_t due = (uint64_t)((float)(now - n->run_t0_us) / (model_dt_s(n) * 1e6f));
         const uint64_t behind = (due > n->run_done) ? due - n->run_done : 0u;
         if (behind < todo) {
             todo = (uint32_t)behind;
@@ -459,8 +621,8 @@ static void advance_run(ss_node_t *n)
         todo = SS_NODE_MAX_STEPS_PER_POLL;
     }
     for (uint32_t i = 0; i < todo; ++i) {
-        ss_waveform_advance_f32(&n->wst);
-        (void)ss_actuator_step_f32(&n->cfg, &n->st, ss_waveform_value_f32(&n->wave, &n->wst));
+        wave_advance(&n->wst);
+        model_step(n, wave_value(&n->wave, &n->wst));
         n->run_done++;
         n->run_left--;
         if (n->run_done % n->run_decimation == 0u && n->can != 0) {
@@ -469,7 +631,7 @@ static void advance_run(ss_node_t *n)
             if (n->n_rows == 0u) {
                 n->first_row_step = n->st.steps;
             }
-            put_row(&n->rows[(size_t)SS_PROTO_ROW_BYTES * n->n_rows++], &n->st);
+            put_row(&n->rows[(size_t)SS_PROTO_ROW_BYTES * n->n_rows++], n);
             if (n->n_rows == SS_PROTO_MAX_ROWS) {
                 flush_rows(n);
             }
@@ -593,7 +755,7 @@ static void can_command(ss_node_t *n, const ss_can_cmd_t *c)
         n->have_last = 1;
         n->last_seq = c->seq;
         n->have_drive_seq = 0;
-        can_reply(n, c->cmd, c->seq, SS_PERR_NONE, (uint8_t)n->cfg.friction_model, n->cfg.dt_s);
+        can_reply(n, c->cmd, c->seq, SS_PERR_NONE, (uint8_t)n->cfg.friction_model, model_dt_s(n));
         return;
     }
     if (n->have_last && c->seq == n->last_seq) {
@@ -622,7 +784,7 @@ static void can_command(ss_node_t *n, const ss_can_cmd_t *c)
         } else if (fabsf(c->value) > 1e5f) {
             e = SS_PERR_OUT_OF_RANGE;
         } else {
-            model_rest(n, c->value);
+            model_rest(n, drive_from_v(c->value));
         }
         break;
     case SS_CAN_CMD_SET_WAVE: e = can_set_wave(n, c->index, c->value); break;
@@ -676,7 +838,7 @@ static void can_drive(ss_node_t *n, const ss_can_drive_t *d)
     }
     n->have_drive_seq = 1;
     n->drive_seq = d->seq;
-    (void)ss_actuator_step_f32(&n->cfg, &n->st, d->drive_v);
+    model_step(n, drive_from_v(d->drive_v));
     if (d->report) {
         can_send_state(n);
     }

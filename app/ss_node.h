@@ -1,11 +1,14 @@
 /* The stage-model node: the actuator of lib/ served over the protocol of docs/protocol.md.
- * Shared by the host simulator (port/posix) and the firmware (port/cortex_m). */
+ * Shared by the host simulator (port/posix) and the firmware (port/cortex_m). The model family is
+ * chosen by the build: the float32 model by default, the fixed-point (_q) model when compiled with
+ * SS_NODE_MODEL_Q (stickslip_node_q, stickslip_fw_q.elf); the protocol is the same. */
 #ifndef SS_NODE_H
 #define SS_NODE_H
 
 #include <stdint.h>
 
 #include "ss_actuator.h"
+#include "ss_actuator_q.h"
 #include "ss_can_msg.h"
 #include "ss_port.h"
 #include "ss_proto.h"
@@ -14,6 +17,22 @@
 #define SS_NODE_N_PARAMS 13u
 /* Steps a free run may take in one poll before it reads the link again. */
 #define SS_NODE_MAX_STEPS_PER_POLL 2000u
+
+/* The model the node runs, fixed at build time; HELLO reports SS_NODE_VARIANT (0 float32, 1 fixed
+ * point). The q node's conversions at its float32 edges are in docs/protocol.md. */
+#ifdef SS_NODE_MODEL_Q
+#define SS_NODE_VARIANT 1u
+typedef ss_actuator_config_q_t ss_node_config_t;
+typedef ss_actuator_state_q_t ss_node_state_t;
+typedef ss_waveform_config_q_t ss_node_wave_t;
+typedef ss_waveform_state_q_t ss_node_wave_state_t;
+#else
+#define SS_NODE_VARIANT 0u
+typedef ss_actuator_config_f32_t ss_node_config_t;
+typedef ss_actuator_state_f32_t ss_node_state_t;
+typedef ss_waveform_config_f32_t ss_node_wave_t;
+typedef ss_waveform_state_f32_t ss_node_wave_state_t;
+#endif
 
 /* The user-facing parameters (stick-slip-dataset/1 names); the library config is built from them. */
 typedef struct {
@@ -26,10 +45,10 @@ typedef struct {
     ss_waveform_config_f32_t wave_pending; /* CAN: SET_WAVE fields until LOAD_WAVE */
     uint8_t drive_seq, have_drive_seq;     /* CAN: last lock-step drive frame */
     ss_node_params_t params;
-    ss_actuator_config_f32_t cfg;
-    ss_actuator_state_f32_t st;
-    ss_waveform_config_f32_t wave;
-    ss_waveform_state_f32_t wst;
+    ss_node_config_t cfg;
+    ss_node_state_t st;
+    ss_node_wave_t wave;
+    ss_node_wave_state_t wst;
     uint8_t wave_loaded;
     ss_proto_rx_t rx;
     ss_proto_packet_t pkt;
@@ -45,7 +64,7 @@ typedef struct {
     uint8_t wire[SS_PROTO_MAX_WIRE];
 } ss_node_t;
 
-/* Table I parameters, LS friction, at rest. */
+/* Table I parameters, LS friction, at rest (the q node: ss_actuator_config_table1_q()). */
 void ss_node_init(ss_node_t *node, const ss_port_link_t *link);
 
 /* The same node on a CAN link (docs/protocol.md, CAN). */

@@ -1,4 +1,5 @@
-/* stickslip_node: the stage model served over a serial link (docs/protocol.md).
+/* stickslip_node (float32 model) and stickslip_node_q (fixed-point model, SS_NODE_MODEL_Q): the
+ * stage model served over a serial link (docs/protocol.md).
  * The link is a pseudo-terminal (--pty, its path is printed) or TCP on 127.0.0.1 (--tcp PORT). */
 #include <signal.h>
 #include <stdio.h>
@@ -11,6 +12,15 @@
 #include "ss_port_slcan.h"
 #include "ss_port_socketcan.h"
 
+#ifndef SS_NODE_PROGRAM
+#define SS_NODE_PROGRAM "stickslip_node"
+#endif
+#if SS_NODE_VARIANT == 1u
+#define SS_NODE_MODEL_TEXT "fixed-point model"
+#else
+#define SS_NODE_MODEL_TEXT "float32 model"
+#endif
+
 static volatile sig_atomic_t stop_requested = 0;
 
 static void on_signal(int sig)
@@ -21,16 +31,17 @@ static void on_signal(int sig)
 
 static void usage(FILE *f)
 {
-    fprintf(f,
-            "usage: stickslip_node (--pty | --tcp PORT | --can-pty | --can-tcp PORT | --socketcan IFACE)\n"
-            "Serve the stick-slip stage model (Table I, LS friction, 1 us step) over a serial or CAN link.\n"
-            "  --pty              serial protocol on a new pseudo-terminal (its path is printed)\n"
-            "  --tcp PORT         serial protocol on 127.0.0.1:PORT (0: any free port, printed)\n"
-            "  --can-pty          CAN frames over SLCAN on a new pseudo-terminal\n"
-            "  --can-tcp PORT     CAN frames over SLCAN on 127.0.0.1:PORT (python-can slcan, socket://)\n"
-            "  --socketcan IFACE  CAN frames on a SocketCAN interface (vcan0, can0)\n"
-            "  --help             this text\n"
-            "Protocol and CAN messages: docs/protocol.md, hil/stickslip/hil/stickslip.dbc.\n");
+    fprintf(f, "usage: " SS_NODE_PROGRAM
+               " (--pty | --tcp PORT | --can-pty | --can-tcp PORT | --socketcan IFACE)\n"
+               "Serve the stick-slip stage model (" SS_NODE_MODEL_TEXT ", Table I, LS friction, 1 us step)\n"
+               "over a serial or CAN link.\n"
+               "  --pty              serial protocol on a new pseudo-terminal (its path is printed)\n"
+               "  --tcp PORT         serial protocol on 127.0.0.1:PORT (0: any free port, printed)\n"
+               "  --can-pty          CAN frames over SLCAN on a new pseudo-terminal\n"
+               "  --can-tcp PORT     CAN frames over SLCAN on 127.0.0.1:PORT (python-can slcan, socket://)\n"
+               "  --socketcan IFACE  CAN frames on a SocketCAN interface (vcan0, can0)\n"
+               "  --help             this text\n"
+               "Protocol and CAN messages: docs/protocol.md, hil/stickslip/hil/stickslip.dbc.\n");
 }
 
 int main(int argc, char **argv)
@@ -45,43 +56,43 @@ int main(int argc, char **argv)
         char path[256];
         ok = ss_posix_pty_open(&link, path, sizeof path) == 0;
         if (ok) {
-            printf("stickslip_node: serial pty %s\n", path);
+            printf(SS_NODE_PROGRAM ": serial pty %s\n", path);
         }
     } else if (argc == 3 && strcmp(argv[1], "--tcp") == 0) {
         char *end = NULL;
         const long port = strtol(argv[2], &end, 10);
         if (end == argv[2] || *end != '\0' || port < 0 || port > 65535) {
-            fprintf(stderr, "stickslip_node: --tcp: expected a port number 0..65535, got '%s'\n", argv[2]);
+            fprintf(stderr, SS_NODE_PROGRAM ": --tcp: expected a port number 0..65535, got '%s'\n", argv[2]);
             return 2;
         }
         ok = ss_posix_tcp_listen(&link, (uint16_t)port) == 0;
         if (ok) {
-            printf("stickslip_node: serial tcp 127.0.0.1:%u\n", (unsigned)link.port);
+            printf(SS_NODE_PROGRAM ": serial tcp 127.0.0.1:%u\n", (unsigned)link.port);
         }
     } else if (argc == 2 && strcmp(argv[1], "--can-pty") == 0) {
         char path[256];
         ok = ss_posix_pty_open(&link, path, sizeof path) == 0;
         if (ok) {
-            printf("stickslip_node: slcan pty %s\n", path);
+            printf(SS_NODE_PROGRAM ": slcan pty %s\n", path);
         }
         can = &slcan.can;
     } else if (argc == 3 && strcmp(argv[1], "--can-tcp") == 0) {
         char *end = NULL;
         const long port = strtol(argv[2], &end, 10);
         if (end == argv[2] || *end != '\0' || port < 0 || port > 65535) {
-            fprintf(stderr, "stickslip_node: --can-tcp: expected a port number 0..65535, got '%s'\n",
+            fprintf(stderr, SS_NODE_PROGRAM ": --can-tcp: expected a port number 0..65535, got '%s'\n",
                     argv[2]);
             return 2;
         }
         ok = ss_posix_tcp_listen(&link, (uint16_t)port) == 0;
         if (ok) {
-            printf("stickslip_node: slcan tcp 127.0.0.1:%u\n", (unsigned)link.port);
+            printf(SS_NODE_PROGRAM ": slcan tcp 127.0.0.1:%u\n", (unsigned)link.port);
         }
         can = &slcan.can;
     } else if (argc == 3 && strcmp(argv[1], "--socketcan") == 0) {
         ok = ss_socketcan_open(&socketcan, argv[2]) == 0;
         if (ok) {
-            printf("stickslip_node: socketcan %s\n", argv[2]);
+            printf(SS_NODE_PROGRAM ": socketcan %s\n", argv[2]);
         }
         can = &socketcan.can;
     } else if (argc == 2 && strcmp(argv[1], "--help") == 0) {
@@ -92,7 +103,7 @@ int main(int argc, char **argv)
         return 2;
     }
     if (!ok) {
-        perror("stickslip_node: cannot open the link");
+        perror(SS_NODE_PROGRAM ": cannot open the link");
         return 1;
     }
     fflush(stdout);

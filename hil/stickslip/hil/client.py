@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import serial
 
-from ..model import Sawtooth
+from ..model import Sawtooth, SimResult
 from . import protocol as P
 
 
@@ -70,6 +70,32 @@ class Telemetry:
         hi = np.array([r[3] for r in rows], dtype=np.float32).astype(np.float64)
         lo = np.array([r[4] for r in rows], dtype=np.float32).astype(np.float64)
         return cls(a[:, 0].astype(np.int64), a[:, 1], a[:, 2], hi + lo, a[:, 5])
+
+    @classmethod
+    def from_q_result(cls, r: SimResult, rows: slice = slice(1, None)) -> Telemetry:
+        """What a fixed-point node (stickslip_node_q, stickslip_fw_q.elf) sends for the q model's
+        states r (simulate(..., variant="q")), by the node's rule (docs/protocol.md): each
+        integer to float32 (nearest, ties to even), times its power of two; the slider as
+        hi = f32(x), lo = f32(x - hi). Exact for |x_slider| < 2^53 LSB, where int -> float64 ->
+        float32 rounds once."""
+
+        def ints(v: np.ndarray, scale: float) -> np.ndarray:
+            return np.round(v[rows] * scale).astype(np.int64)  # exact: the values are k 2^-n
+
+        def f32(q: np.ndarray, bits: int) -> np.ndarray:
+            return q.astype(np.float64).astype(np.float32) * np.float32(2.0**-bits)
+
+        x = ints(r.x_slider_m, 2.0**40)
+        hi = x.astype(np.float64).astype(np.float32)
+        lo = f32(x - hi.astype(np.int64), 40)
+        hi = hi * np.float32(2.0**-40)
+        return cls(
+            np.round(r.t_s[rows] / r.dt_s).astype(np.int64),
+            f32(ints(r.drive_v, 2.0**16), 16).astype(np.float64),
+            f32(ints(r.x_rod_m, 2.0**40), 40).astype(np.float64),
+            hi.astype(np.float64) + lo.astype(np.float64),
+            f32(ints(r.force_n, 2.0**24), 24).astype(np.float64),
+        )
 
 
 @dataclass
@@ -271,24 +297,33 @@ class NodeClient:
 # ---------------------------------------------------------------- the host node
 
 
-def node_binary() -> Path:
-    """The stickslip_node program: $STICKSLIP_NODE, the package's copy, or a development build."""
+NODE_PROGRAMS = {"f32": "stickslip_node", "q": "stickslip_node_q"}
+
+
+def node_binary(variant: str = "f32") -> Path:
+    """The host node program: stickslip_node (float32 model) or stickslip_node_q (variant "q",
+    the fixed-point model): $STICKSLIP_NODE (or $STICKSLIP_NODE_Q), the package's copy, or a
+    development build."""
+    if variant not in NODE_PROGRAMS:
+        raise ValueError(f"variant must be one of {sorted(NODE_PROGRAMS)}, got {variant!r}")
+    name = NODE_PROGRAMS[variant]
     here = Path(__file__).resolve().parent.parent
     for cand in (
-        os.environ.get("STICKSLIP_NODE"),
-        here / "bin" / "stickslip_node",
-        here.parents[1] / "build" / "host" / "host_sim" / "stickslip_node",
+        os.environ.get(name.upper()),
+        here / "bin" / name,
+        here.parents[1] / "build" / "host" / "host_sim" / name,
     ):
         if cand and Path(cand).is_file():
             return Path(cand)
     raise FileNotFoundError(
-        "stickslip_node not found: set STICKSLIP_NODE or build with cmake --preset host"
+        f"{name} not found: set {name.upper()} or build with cmake --preset host"
     )
 
 
 class HostNode:
-    """Start stickslip_node as a child process; `url` is where to connect: a pty path or
-    socket://127.0.0.1:PORT, carrying the serial protocol (pty, tcp) or SLCAN (can-pty, can-tcp)."""
+    """Start stickslip_node (variant "q": stickslip_node_q) as a child process; `url` is where to
+    connect: a pty path or socket://127.0.0.1:PORT, carrying the serial protocol (pty, tcp) or
+    SLCAN (can-pty, can-tcp)."""
 
     ARGS = {
         "pty": ["--pty"],
@@ -297,16 +332,17 @@ class HostNode:
         "can-tcp": ["--can-tcp", "0"],
     }
 
-    def __init__(self, link: str = "pty"):
+    def __init__(self, link: str = "pty", variant: str = "f32"):
         if link not in self.ARGS:
             raise ValueError(f"link must be one of {sorted(self.ARGS)}, got {link!r}")
-        cmd = [str(node_binary()), *self.ARGS[link]]
+        exe = node_binary(variant)
+        cmd = [str(exe), *self.ARGS[link]]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True)
         line = self.proc.stdout.readline() if self.proc.stdout else ""
         m = re.search(r"(?:serial|slcan) (?:pty (\S+)|tcp (\S+))", line)
         if not m:
             self.close()
-            raise RuntimeError(f"stickslip_node did not start: {line!r}")
+            raise RuntimeError(f"{exe.name} did not start: {line!r}")
         self.url = m.group(1) or f"socket://{m.group(2)}"
 
     def __enter__(self) -> HostNode:

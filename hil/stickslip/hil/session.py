@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import dataset as D
-from ..model import ActuatorParams, Sawtooth, drive_samples
+from ..model import ActuatorParams, Sawtooth, drive_samples, simulate
 from .client import NodeClient, Telemetry
 
 
@@ -51,6 +51,20 @@ def node_params(client: NodeClient) -> ActuatorParams:
     return ActuatorParams.from_dict(values, "node parameters")
 
 
+def lockstep_drive(w: Sawtooth, dt_s: float, steps: int, variant: str = "float32") -> np.ndarray:
+    """The drive at t = 0 and after each of `steps` steps, float32. For a fixed-point node
+    (variant "fixed") the q player's Q16.16 samples, exact in float32 below 256 V, so the node's
+    conversion back to Q16.16 gives the q model's own drive."""
+    if variant != "fixed":
+        return drive_samples(w, dt_s, steps)
+    # the node's step is Table I's (1 us as dt_q40; dt_s reports it as 1.0000003 us)
+    hold_s = max(0, steps - int(round(w.duration_s / 1e-6))) * 1e-6
+    drive = simulate(w, variant="q", hold_s=hold_s).drive_v[: steps + 1]
+    if len(drive) != steps + 1:
+        raise ValueError(f"q drive: {len(drive) - 1} steps, not {steps}")
+    return drive.astype(np.float32)
+
+
 def play(
     client: NodeClient,
     w: Sawtooth,
@@ -59,11 +73,12 @@ def play(
     paced: bool = False,
 ) -> HilRun:
     """Play w through the node. lockstep: the drive is generated here (the sawtooth of the C
-    library, one sample per step) and sent in blocks; free: the node plays it itself."""
+    library, one sample per step: the float32 player, or the q player for a fixed-point node) and
+    sent in blocks; free: the node plays it itself."""
     dt = client.info.dt_s
     steps = int(round(w.duration_s / dt))
     if mode == "lockstep":
-        drive = drive_samples(w, dt, steps)
+        drive = lockstep_drive(w, dt, steps, client.info.variant)
         block = max(decimation, (40 // decimation) * decimation)
         client.reset(float(drive[0]))
         t0 = time.perf_counter()
