@@ -41,7 +41,8 @@ echo "setup: building the C library, host simulator and C tests (build/host)"
 cmake --preset host >/dev/null
 cmake --build --preset host
 if [ "${1:-}" = "--dev" ]; then
-  # cortex-m0plus builds the fixed-point library alone and fails if it links any float helper
+  # every preset builds the node images (stickslip_fw.elf on the M4F and M3, stickslip_fw_q.elf,
+  # the fixed-point node, on all three); cortex-m0plus checks its q-only images for float helpers
   echo "setup: building the firmware (build/cortex-m4f, build/cortex-m3, build/cortex-m0plus)"
   for preset in cortex-m4f cortex-m3 cortex-m0plus; do
     cmake --preset "$preset" >/dev/null

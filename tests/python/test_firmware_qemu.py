@@ -1,5 +1,6 @@
 """The firmware (the node application on the Cortex-M port) in QEMU's MPS2 boards, driven over
-its emulated UART: the same trajectory as the host's batch simulator."""
+its emulated UART: the same trajectory as the host's batch simulator (float32 node), and the
+same bytes as the host's stickslip_node_q (fixed-point node)."""
 
 import os
 import shutil
@@ -7,7 +8,14 @@ import shutil
 import numpy as np
 import pytest
 
-from stickslip.hil.client import NodeClient, QemuNode, firmware_elf
+from stickslip.hil.client import (
+    QEMU_TARGETS,
+    HostNode,
+    NodeClient,
+    QemuNode,
+    Telemetry,
+    firmware_elf,
+)
 from stickslip.hil.session import play
 from stickslip.model import Sawtooth, simulate
 
@@ -16,18 +24,24 @@ def f32(x):
     return np.asarray(x, dtype=np.float32)
 
 
-@pytest.mark.parametrize("target,preset", [("qemu-m4f", "cortex-m4f"), ("qemu-m3", "cortex-m3")])
-def test_firmware_lockstep_matches_host(target, preset):
-    # CI installs QEMU and builds the firmware (scripts/setup.sh --dev): there this test must run
+def need_firmware(target: str) -> None:
+    """Skip when QEMU or the image is missing, except under CI (which installs QEMU and builds the
+    firmware with scripts/setup.sh --dev): there the test must run."""
     must_run = bool(os.environ.get("CI"))
     if shutil.which("qemu-system-arm") is None and not must_run:
         pytest.skip("qemu-system-arm is not installed (bash scripts/setup.sh --dev)")
+    _, preset, image = QEMU_TARGETS[target]
     try:
-        firmware_elf(preset)
+        firmware_elf(preset, image)
     except FileNotFoundError as e:
         if must_run:
             raise
         pytest.skip(str(e))
+
+
+@pytest.mark.parametrize("target", ["qemu-m4f", "qemu-m3"])
+def test_firmware_lockstep_matches_host(target):
+    need_firmware(target)
     w = Sawtooth(cycles=2)
     r = simulate(w)
     with QemuNode(target) as q, NodeClient(q.url, timeout_s=20) as c:
@@ -41,3 +55,36 @@ def test_firmware_lockstep_matches_host(target, preset):
         assert np.max(np.abs(tel.x_slider_m - r.x_slider_m[1:])) < 1e-12
         assert run.mean_step_m() == pytest.approx(r.mean_step_m, rel=1e-6)
         assert c.get("sigma0_n_per_m") == pytest.approx(1e7)
+
+
+def rows_of(c: NodeClient, drive: np.ndarray) -> list[tuple]:
+    """The raw rows (float32 fields as sent) of a lock-step run from rest."""
+    c.reset(float(drive[0]))
+    rows: list[tuple] = []
+    for i in range(1, len(drive), 40):
+        rows += c.drive_block(drive[i : i + 40])
+    return rows
+
+
+@pytest.mark.parametrize("target", ["qemu-m3-q", "qemu-m4f-q", "qemu-m0plus-q"])
+def test_q_firmware_lockstep_is_bit_exact_with_host_q_node(target):
+    need_firmware(target)
+    w = Sawtooth(cycles=2)
+    r = simulate(w, variant="q")
+    drive = r.drive_v.astype(np.float32)  # the q player's Q16.16 samples, exact in float32
+    with HostNode("pty", variant="q") as h, NodeClient(h.url) as hc:
+        host = rows_of(hc, drive)
+        hc.set("normal_force_n", 12.5)  # a parameter set the converter makes on each side
+        host_n = rows_of(hc, drive[:801])
+        host_info = hc.info
+    with QemuNode(target) as q, NodeClient(q.url, timeout_s=20) as c:
+        assert c.info == host_info and c.info.variant == "fixed"
+        fw = rows_of(c, drive)
+        c.set("normal_force_n", 12.5)
+        fw_n = rows_of(c, drive[:801])
+    # row for row, every float32 field identical to the host q node's
+    assert fw == host and fw_n == host_n
+    want = Telemetry.from_q_result(r)
+    tel = Telemetry.from_rows(fw)
+    assert np.array_equal(tel.x_slider_m, want.x_slider_m)
+    assert np.array_equal(tel.friction_n, want.friction_n)

@@ -363,13 +363,22 @@ class HostNode:
                 self.proc.kill()
 
 
-QEMU_TARGETS = {"qemu-m4f": ("mps2-an386", "cortex-m4f"), "qemu-m3": ("mps2-an385", "cortex-m3")}
+# target: (board, preset, image); the -q images are the fixed-point node (SS_NODE_MODEL_Q)
+QEMU_TARGETS = {
+    "qemu-m4f": ("mps2-an386", "cortex-m4f", "stickslip_fw.elf"),
+    "qemu-m3": ("mps2-an385", "cortex-m3", "stickslip_fw.elf"),
+    "qemu-m4f-q": ("mps2-an386", "cortex-m4f", "stickslip_fw_q.elf"),
+    "qemu-m3-q": ("mps2-an385", "cortex-m3", "stickslip_fw_q.elf"),
+    # ARMv6-M code on the an385's Cortex-M3 (a superset), as the q staircase runs
+    "qemu-m0plus-q": ("mps2-an385", "cortex-m0plus", "stickslip_fw_q.elf"),
+}
 
 
 def firmware_elf(preset: str, image: str = "stickslip_fw.elf") -> Path:
     """A firmware image of a CMake preset (cortex-m4f, cortex-m3, cortex-m0plus): under
     $STICKSLIP_FIRMWARE_ROOT, the current directory (a checkout) or the checkout this module runs
-    from. The node is stickslip_fw.elf; the fixed-point staircase stickslip_q_fw.elf."""
+    from. The node is stickslip_fw.elf, the fixed-point node stickslip_fw_q.elf; the fixed-point
+    staircase stickslip_q_fw.elf."""
     roots = [
         os.environ.get("STICKSLIP_FIRMWARE_ROOT"),
         Path.cwd(),
@@ -394,8 +403,8 @@ class QemuNode(HostNode):
     def __init__(self, target: str = "qemu-m4f"):
         if target not in QEMU_TARGETS:
             raise ValueError(f"target must be one of {sorted(QEMU_TARGETS)}, got {target!r}")
-        board, preset = QEMU_TARGETS[target]
-        elf = firmware_elf(preset)
+        board, preset, image = QEMU_TARGETS[target]
+        elf = firmware_elf(preset, image)
         with socket.socket() as s:
             s.bind(("127.0.0.1", 0))
             port = s.getsockname()[1]
