@@ -22,9 +22,19 @@ from stickslip.diagnosis.pipeline import EXPLAINED_RMSE_OVER_NOISE, diagnose, sp
 SEED = 7
 
 
+class CountingExecutor(ProcessPoolExecutor):
+    """A user's executor: the diagnosis must send its simulations through it."""
+
+    submitted = 0
+
+    def submit(self, *args, **kwargs):
+        self.submitted += 1
+        return super().submit(*args, **kwargs)
+
+
 @pytest.fixture(scope="module")
 def executor():
-    with ProcessPoolExecutor(max_workers=2) as ex:
+    with CountingExecutor(max_workers=2) as ex:
         yield ex
 
 
@@ -59,7 +69,10 @@ def test_names_each_hidden_cause(tmp_path, executor, cause):
 
 
 def test_clean_data_names_none(tmp_path, executor):
+    before = executor.submitted
     _, d = _run(tmp_path, [], executor=executor)
+    # baseline, one fit per cause, the polish: all through the executor it was given
+    assert executor.submitted - before >= 1 + len(CAUSES)
     j = d.to_json()
     assert j["causes"] == ["none"]
     assert not j["unexplained"]
@@ -175,3 +188,10 @@ def test_cli_bad_dataset_names_file_row_column_and_writes_nothing(tmp_path):
     assert p.returncode == 2
     assert "f100_a100_fwd.csv" in p.stderr and "row 41" in p.stderr and "'x_m'" in p.stderr
     assert not out.exists()
+
+
+def test_too_few_runs_is_a_clear_error(tmp_path):
+    design = synth.standard_design()[:2]
+    ds = synth.generate(tmp_path / "ds", synth.draw_truth((), np.random.default_rng(0)), 0, design)
+    with pytest.raises(ValueError, match="at least 3 runs"):
+        diagnose(ds)
