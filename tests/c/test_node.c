@@ -4,46 +4,8 @@
 
 #include <string.h>
 
+#include "ss_fake_link.h"
 #include "ss_node.h"
-
-typedef struct {
-    uint8_t in[8192];
-    size_t in_n, in_at;
-    uint8_t out[1 << 16];
-    size_t out_n;
-    uint64_t now_us;
-    int gone; /* next read reports the peer gone */
-} fake_t;
-
-static int32_t fake_read(void *ctx, uint8_t *buf, size_t max)
-{
-    fake_t *f = ctx;
-    if (f->gone) {
-        f->gone = 0;
-        return -1;
-    }
-    size_t n = f->in_n - f->in_at;
-    n = n < max ? n : max;
-    memcpy(buf, f->in + f->in_at, n);
-    f->in_at += n;
-    return (int32_t)n;
-}
-
-static int32_t fake_write(void *ctx, const uint8_t *buf, size_t n)
-{
-    fake_t *f = ctx;
-    if (f->out_n + n > sizeof f->out) {
-        return -1;
-    }
-    memcpy(f->out + f->out_n, buf, n);
-    f->out_n += n;
-    return (int32_t)n;
-}
-
-static uint64_t fake_time(void *ctx)
-{
-    return ((fake_t *)ctx)->now_us;
-}
 
 static fake_t fk;
 static ss_port_link_t link_ = {&fk, fake_read, fake_write, fake_time};

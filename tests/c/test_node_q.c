@@ -6,45 +6,12 @@
 #include <string.h>
 
 #include "ss_convert_q.h"
+#include "ss_fake_link.h"
 #include "ss_node.h"
 
 #if SS_NODE_VARIANT != 1u
 #error "test_node_q is built with SS_NODE_MODEL_Q"
 #endif
-
-typedef struct {
-    uint8_t in[8192];
-    size_t in_n, in_at;
-    uint8_t out[1 << 16];
-    size_t out_n;
-    uint64_t now_us;
-} fake_t;
-
-static int32_t fake_read(void *ctx, uint8_t *buf, size_t max)
-{
-    fake_t *f = ctx;
-    size_t n = f->in_n - f->in_at;
-    n = n < max ? n : max;
-    memcpy(buf, f->in + f->in_at, n);
-    f->in_at += n;
-    return (int32_t)n;
-}
-
-static int32_t fake_write(void *ctx, const uint8_t *buf, size_t n)
-{
-    fake_t *f = ctx;
-    if (f->out_n + n > sizeof f->out) {
-        return -1;
-    }
-    memcpy(f->out + f->out_n, buf, n);
-    f->out_n += n;
-    return (int32_t)n;
-}
-
-static uint64_t fake_time(void *ctx)
-{
-    return ((fake_t *)ctx)->now_us;
-}
 
 static fake_t fk;
 static ss_port_link_t link_ = {&fk, fake_read, fake_write, fake_time};
