@@ -16,6 +16,20 @@ import numpy as np
 
 from .model import MODELS, VARIANTS, Sawtooth, simulate
 
+# nodes `hil run` can start: the host node (-q: fixed point) and the firmware images in QEMU
+# (hil.client.QEMU_TARGETS; listed here so that --help does not import pyserial)
+NODE_LINKS = (
+    "pty",
+    "tcp",
+    "pty-q",
+    "tcp-q",
+    "qemu-m4f",
+    "qemu-m3",
+    "qemu-m4f-q",
+    "qemu-m3-q",
+    "qemu-m0plus-q",
+)
+
 
 class CliError(Exception):
     """A user error: printed as one line, exit status 2."""
@@ -192,8 +206,9 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
 
                 url = stack.enter_context(QemuNode(a.node_link)).url
             else:
-                link = ("can-" if a.link == "can" else "") + a.node_link
-                url = stack.enter_context(HostNode(link)).url
+                host_link, _, variant = a.node_link.partition("-")
+                link = ("can-" if a.link == "can" else "") + host_link
+                url = stack.enter_context(HostNode(link, variant or "f32")).url
         if a.link == "can":
             from .hil.can_client import CanNodeClient
 
@@ -392,10 +407,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     hr.add_argument(
         "--node-link",
-        choices=("pty", "tcp", "qemu-m4f", "qemu-m3"),
+        choices=NODE_LINKS,
         default="pty",
-        help="the node started here: the host node on a pty or TCP (default pty), or the firmware "
-        "in QEMU (Cortex-M4F on mps2-an386, Cortex-M3 on mps2-an385; serial only)",
+        help="the node started here: the host node on a pty or TCP (default pty; -q: the "
+        "fixed-point node), or the firmware in QEMU (Cortex-M4F on mps2-an386, Cortex-M3 and the "
+        "ARMv6-M image on mps2-an385; -q: the fixed-point firmware; serial only)",
     )
     hr.add_argument(
         "--mode",

@@ -92,14 +92,26 @@ def test_miscalibrated_parameters_are_not_a_cause(tmp_path, executor):
 
 
 @pytest.mark.parametrize(
-    "pair",
-    [("external_load", "piezo_hysteresis"), ("amplifier_slew_limit", "thermal_drift")],
+    ("pair", "seed"),
+    [
+        # seed 100: alone, an asymmetric friction mimics this pair better than the load does
+        # (validation RMSE 0.37 um against 0.78 um); only the load leads on to the pair, so the
+        # runner-up of the singles must be extended too
+        (("external_load", "piezo_hysteresis"), 100),
+        (("amplifier_slew_limit", "thermal_drift"), SEED),
+    ],
 )
-def test_names_both_effects_of_a_pair(tmp_path, executor, pair):
-    truth, d = _run(tmp_path, list(pair), executor=executor)
+def test_names_both_effects_of_a_pair(tmp_path, executor, pair, seed):
+    truth, d = _run(tmp_path, list(pair), seed=seed, executor=executor)
     j = d.to_json()
     assert sorted(j["causes"]) == sorted(pair), (truth.effects.active(), j["candidates"][:3])
     assert not j["unexplained"]
+    assert j["extended"]["validation_rmse_m"] <= EXPLAINED_RMSE_OVER_NOISE * d.noise_m
+    # both strengths recovered within 10 %, as for a single cause
+    for cause in pair:
+        name = CAUSE_PARAMS[cause][0].name
+        got = j["extended"]["params"][f"{cause}.{name}"]
+        assert got == pytest.approx(getattr(truth.effects, name), rel=0.1), name
 
 
 def test_effect_outside_the_catalog_is_unexplained(tmp_path, executor):

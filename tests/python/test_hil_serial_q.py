@@ -68,3 +68,26 @@ def test_set_param_through_the_converter(node):
         c.load_waveform(w)
         tel = c.run(2000, decimation=100)
         assert_same(tel, Telemetry.from_q_result(r, slice(100, None, 100)))
+
+
+def test_hil_run_command_starts_the_fixed_point_node(tmp_path, capsys):
+    import json
+
+    from stickslip import dataset as D
+    from stickslip.cli import NODE_LINKS, main
+    from stickslip.hil.client import QEMU_TARGETS
+
+    # every QEMU target is offered by --node-link, and nothing else that starts with qemu-
+    assert {n for n in NODE_LINKS if n.startswith("qemu-")} == set(QEMU_TARGETS)
+    out = tmp_path / "ds"
+    assert (
+        main(["hil", "run", "--node-link", "tcp-q", "--cycles", "2", "--out", str(out), "--json"])
+        == 0
+    )
+    s = json.loads(capsys.readouterr().out)
+    assert s["node"]["variant"] == "fixed" and s["link"]["lost_frames"] == 0
+    run = D.load(out).runs[0]
+    r = simulate(run.waveform, variant="q")
+    # row for row: the q node's step is Table I's dt_q40 (1.00000034 us), not 1 us
+    assert len(run.x_m) == len(r.x_slider_m)
+    assert np.max(np.abs(r.x_slider_m - run.x_m)) < 1e-12

@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import dataset as D
 from .catalog import CAUSES
-from .fit import START_SAMPLES, Evaluation, FitResult, Model, evaluate, fit, predict
+from .fit import Evaluation, FitResult, Model, evaluate, fit, predict
 
 FORMAT = "stick-slip-diagnosis/1"
 # Evidence a cause must bring on the validation runs: a BIC drop of 10 ("very strong" on the
@@ -28,9 +28,14 @@ UNEXPLAINED_RMSE_OVER_NOISE = 3.0  # above this x noise after extension: unexpla
 MAX_CAUSES = 3
 FIT_NFEV = 30  # least-squares iterations of a candidate fit
 REFINE_NFEV = 60  # ... and of the kept model before the next round
-# Causes tried as a second (third) cause: all of them. How well a cause does alone says little
-# about what it adds to another (a hysteresis under a load ranks low alone).
-PAIR_CANDIDATES = len(CAUSES)
+# Models extended in the next round: the kept one and the runner-up of its round if that one
+# removes at least BEAM_SHARE of the mean-square error the kept one removes (the two compete for
+# the same residual). Every remaining cause is tried on each: how well a cause does alone says
+# little about what it adds to another (a hysteresis under a load ranks low alone), and the best
+# single cause need not be one of the pair (while a hysteresis is present, an asymmetric friction
+# mimics a load better than the load does: both remove ~96 % of the error, the load 1-2 % less).
+BEAM_WIDTH = 2
+BEAM_SHARE = 0.5
 
 
 def split_runs(runs: list[D.Run]) -> tuple[list[D.Run], list[D.Run]]:
@@ -159,8 +164,7 @@ def diagnose(
     nominal_model = Model(base)
     nominal_res = [predict(r, nominal_model) - r.x_m for r in ds.runs]
     noise_m, noise_src = noise_level(ds, nominal_res)
-    # the start placement averages START_SAMPLES noisy samples: their mean stays in the residual
-    noise_eff = noise_m * math.sqrt(1.0 + 1.0 / START_SAMPLES)
+    noise_eff = noise_m  # the fitted start offset removes one sample's worth per run: negligible
     nominal = evaluate(val, nominal_model, noise_eff)
     timing["nominal_s"] = time.perf_counter() - t_start
 
@@ -192,11 +196,12 @@ def diagnose(
         t0 = time.perf_counter()
         chosen = baseline
         rounds: list[list[Candidate]] = [singles]
-        pool = [c for c in singles]
+        pool = list(singles)
         while True:
             best = pool[0] if pool else None
             if best is None or not _better(best, chosen, noise_eff):
                 break
+            before = chosen
             # polish the kept model before anything is compared with it, so that a second cause
             # cannot win by merely continuing the first one's optimisation
             say(f"refining {'+'.join(best.causes)}")
@@ -213,25 +218,30 @@ def diagnose(
             chosen = Candidate(best.causes, f, v, _bic(v, noise_eff, f.n_params))
             if len(chosen.causes) >= MAX_CAUSES or _explained(chosen, noise_eff):
                 break
-            nxt = [c.causes[-1] for c in singles if c.causes[-1] not in chosen.causes]
-            nxt = nxt[:PAIR_CANDIDATES]
-            say(f"adding to {'+'.join(chosen.causes)}: trying {', '.join(nxt)}")
+            fall = before.val.rmse_m**2 - best.val.rmse_m**2
+            beam = [chosen] + [
+                c
+                for c in pool[1:BEAM_WIDTH]
+                if before.val.rmse_m**2 - c.val.rmse_m**2 >= BEAM_SHARE * fall
+            ]
+            tried: dict[frozenset[str], tuple[tuple[str, ...], Model]] = {}
+            for b in beam:
+                for n in CAUSES:
+                    key = frozenset((*b.causes, n))
+                    if n not in b.causes and key not in tried:
+                        tried[key] = ((*b.causes, n), b.fit.model)
+            say(
+                f"adding to {' or '.join('+'.join(b.causes) for b in beam)}: "
+                f"{len(tried)} combinations"
+            )
             futs = [
-                ex.submit(
-                    _fit_and_validate,
-                    train,
-                    val,
-                    base,
-                    (*chosen.causes, n),
-                    noise_eff,
-                    chosen.fit.model,
-                )
-                for n in nxt
+                (combo, ex.submit(_fit_and_validate, train, val, base, combo, noise_eff, start))
+                for combo, start in tried.values()
             ]
             pool = []
-            for n, fu in zip(nxt, futs):
+            for combo, fu in futs:
                 f, v = fu.result()
-                pool.append(Candidate((*chosen.causes, n), f, v, _bic(v, noise_eff, f.n_params)))
+                pool.append(Candidate(combo, f, v, _bic(v, noise_eff, f.n_params)))
             pool.sort(key=lambda c: c.score)
             rounds.append(pool)
         # Backward check: a cause stays only if the model without it, re-polished from the same
