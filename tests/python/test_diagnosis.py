@@ -207,3 +207,20 @@ def test_too_few_runs_is_a_clear_error(tmp_path):
     ds = synth.generate(tmp_path / "ds", synth.draw_truth((), np.random.default_rng(0)), 0, design)
     with pytest.raises(ValueError, match="at least 3 runs"):
         diagnose(ds)
+
+
+def test_signatures_show_a_load_as_opposite_signs_in_the_two_directions(tmp_path):
+    # a load of +0.3 N helps forward steps and hinders reverse ones: the model without it steps
+    # less far forward and further back, so its step error along the drive direction is < 0
+    # forward and > 0 in reverse (the report's reading of a direction split)
+    from stickslip.diagnosis.fit import Model
+    from stickslip.diagnosis.report import _signatures
+    from stickslip.model import ActuatorParams, Effects
+
+    design = [synth.RunDesign(f"f500_{d}", 500.0, 100.0, d, 5) for d in (1, -1)]
+    truth = synth.Truth(ActuatorParams.table1(), Effects(load_n=0.3), ("external_load",))
+    ds = load(synth.generate(tmp_path / "ds", truth, seed=SEED, design=design))
+    sig = _signatures(ds.runs, Model(ActuatorParams.table1()))
+    fwd, rev = sig["rel"][sig["dir"] > 0], sig["rel"][sig["dir"] < 0]
+    # 5 cycles each; the load changes a ~2 um step by far more than the 2 nm noise
+    assert np.all(fwd < -20e-9) and np.all(rev > 20e-9), (fwd, rev)

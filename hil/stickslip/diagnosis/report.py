@@ -19,9 +19,12 @@ from .pipeline import MIN_BIC_DROP, MIN_MSE_DROP_OVER_NOISE, Diagnosis  # noqa: 
 
 
 def _signatures(runs: list[D.Run], model: Model) -> dict[str, np.ndarray]:
-    """Per-cycle step residual (simulated - measured, m) with the conditions of each cycle, and
-    the position residual against phase within the cycle. In metres rather than relative: runs
-    that hardly step (100 Hz) would otherwise drown the rest."""
+    """Per-cycle step residual (simulated - measured, m) along the drive direction (> 0: the model
+    steps further than measured) with the conditions of each cycle, and the position residual,
+    also along the drive direction, against phase within the cycle. Along the direction, a load
+    or an asymmetry shows as opposite signs in the two directions, and the two directions do not
+    cancel in the phase median. In metres rather than relative: runs that hardly step (100 Hz)
+    would otherwise drown the rest."""
     rows: dict[str, list] = {k: [] for k in ("rel", "dir", "freq", "amp", "pos", "cycle", "tfrac")}
     phase, pres = [], []
     for run in runs:
@@ -32,7 +35,7 @@ def _signatures(runs: list[D.Run], model: Model) -> dict[str, np.ndarray]:
         s_meas, s_sim = cycle_steps(run, run.x_m), cycle_steps(run, x)
         k = np.arange(w.cycles)
         starts = np.interp(k * w.period_s, run.t_s - run.t_s[0], run.x_m)
-        rows["rel"].extend(s_sim - s_meas)
+        rows["rel"].extend(w.direction * (s_sim - s_meas))
         rows["dir"].extend([w.direction] * w.cycles)
         rows["freq"].extend([w.frequency_hz] * w.cycles)
         rows["amp"].extend([w.amplitude_v] * w.cycles)
@@ -43,7 +46,7 @@ def _signatures(runs: list[D.Run], model: Model) -> dict[str, np.ndarray]:
         t = run.t_s - run.t_s[0]
         inside = t < w.duration_s
         cyc = np.floor(t[inside] / w.period_s).astype(int)
-        r = (x - run.x_m)[inside]
+        r = w.direction * (x - run.x_m)[inside]
         r0 = np.array([r[cyc == c][0] for c in range(w.cycles)])
         phase.extend((t[inside] / w.period_s) % 1.0)
         pres.extend(r - r0[cyc])
@@ -68,7 +71,7 @@ def _plot_signatures(path: Path, sig: dict[str, np.ndarray], title: str) -> None
         ax.scatter(xs + jitter, 1e9 * sig["rel"], s=6, c=c, alpha=0.6)
         ax.axhline(0, color="k", lw=0.5)
         ax.set_xlabel(label)
-        ax.set_ylabel("step error, simulated - measured (nm)")
+        ax.set_ylabel("step error along drive, sim - meas (nm)")
         if key == "freq":
             ax.set_xscale("log")
     ax = axes.flat[5]
@@ -77,7 +80,7 @@ def _plot_signatures(path: Path, sig: dict[str, np.ndarray], title: str) -> None
     med = [np.median(sig["phase_res"][idx == i]) if np.any(idx == i) else np.nan for i in range(40)]
     ax.plot(0.5 * (bins[1:] + bins[:-1]), 1e9 * np.asarray(med), "k.-")
     ax.set_xlabel("phase within the cycle")
-    ax.set_ylabel("position residual since cycle start (nm)")
+    ax.set_ylabel("residual along drive since cycle start (nm)")
     fig.suptitle(title + "  (blue: forward runs, red: reverse)")
     fig.tight_layout()
     fig.savefig(path, dpi=90)
@@ -191,6 +194,14 @@ def _markdown(d: Diagnosis, j: dict) -> str:
             f"| {name} | {_nm(b['validation_rmse_m'])} | {b['validation_rmse_m'] / noise:.2f} | "
             f"{100 * b['validation_step_error']:.2f} % |"
         )
+    if j["baseline"]["validation_rmse_m"] > j["nominal"]["validation_rmse_m"]:
+        lines += [
+            "",
+            "The calibrated base model predicts the held-out runs worse than the nominal one: "
+            "fitted to data it cannot describe, the friction parameters absorb the missing "
+            "effect on the training runs and carry the wrong correction to the others. That is "
+            "evidence the base model lacks something, not of a bad calibration.",
+        ]
     lines += [
         "",
         f"Gain of the extension over the calibrated base model: **{100 * j['gain']:.1f} %** of "
@@ -246,7 +257,8 @@ def _markdown(d: Diagnosis, j: dict) -> str:
         "Residual signatures of the calibrated base model. Each physical cause leaves its own "
         "pattern: a load or asymmetry splits the directions, a slew limit grows with frequency, "
         "hysteresis depends on amplitude, position-dependent friction on where the slider is, "
-        "heat and creep on the time within a run.",
+        "heat and creep on the time within a run. Errors are along the drive direction: above "
+        "zero, the model steps further than measured.",
         "",
         "![signatures](signatures_baseline.png)",
         "",
