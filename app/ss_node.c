@@ -755,7 +755,9 @@ static void can_command(ss_node_t *n, const ss_can_cmd_t *c)
         n->have_last = 1;
         n->last_seq = c->seq;
         n->have_drive_seq = 0;
-        can_reply(n, c->cmd, c->seq, SS_PERR_NONE, (uint8_t)n->cfg.friction_model, model_dt_s(n));
+        /* index: model + 16 x variant (a float node answers as before) */
+        const uint8_t id = (uint8_t)((uint32_t)n->cfg.friction_model + 16u * SS_NODE_VARIANT);
+        can_reply(n, c->cmd, c->seq, SS_PERR_NONE, id, model_dt_s(n));
         return;
     }
     if (n->have_last && c->seq == n->last_seq) {

@@ -298,6 +298,7 @@ static void test_can_commands(void **unused)
     (void)unused;
     ss_can_reply_t r = can_cmd(SS_CAN_CMD_HELLO, 0, 0, 0, 0.0f);
     assert_int_equal(r.cmd, SS_CAN_CMD_HELLO);
+    assert_int_equal(r.index, 0); /* LS, float32 */
     assert_true(r.value == 1e-6f);
     r = can_cmd(SS_CAN_CMD_GET_PARAM, 1, 5, 0, 0.0f);
     assert_true(r.status == 0 && r.value == 0.36f);

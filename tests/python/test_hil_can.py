@@ -127,3 +127,16 @@ def test_socketcan_where_the_kernel_has_vcan():
     finally:
         node.terminate()
         subprocess.run(["ip", "link", "del", "vcan0"], capture_output=True)
+
+
+def test_fixed_point_node_over_slcan_says_so_and_runs_the_q_model():
+    w = Sawtooth(cycles=1)
+    r = simulate(w, variant="q")
+    with HostNode("can-tcp", variant="q") as n, CanNodeClient(n.url) as c:
+        # HELLO's index carries the variant in its high nibble; a float node's stays 0 (LS)
+        assert c.info.variant == "fixed" and c.info.model == "ls"
+        assert c.info.dt_s == np.float32(1099512 * 2.0**-40)  # Table I's dt_q40
+        c.reset(float(r.drive_v[0]))
+        tel = c.lockstep(r.drive_v[1:401], decimation=1)  # Q16.16 drive values: exact in f32
+        assert np.array_equal(f32(tel.x_rod_m), f32(r.x_rod_m[1:401]))
+        assert np.array_equal(tel.x_slider_m, r.x_slider_m[1:401])  # hi + lo: the q position

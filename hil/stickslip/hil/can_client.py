@@ -121,8 +121,14 @@ class CanNodeClient:
     # ------------------------------------------------------------ requests
     def hello(self) -> NodeInfo:
         r = self.request("HELLO")
+        model, variant = r["index"] & 0x0F, r["index"] >> 4  # docs/protocol.md, the CAN link
         return NodeInfo(
-            1, ("ls", "lugre")[r["index"]], "float32", len(P.PARAM_NAMES), r["value"], "can"
+            1,
+            ("ls", "lugre")[model],
+            ("float32", "fixed")[variant],
+            len(P.PARAM_NAMES),
+            r["value"],
+            "can",
         )
 
     def _id(self, param: int | str) -> int:
