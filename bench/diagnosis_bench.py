@@ -49,26 +49,32 @@ def hit(name: str, causes: tuple[str, ...], j: dict) -> bool:
 
 def main() -> int:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--repeat", type=int, default=3, help="timed example runs (0: none)")
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--first-seed", type=int, default=100)
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--cases", nargs="*", default=None, help="only these case names (default: all)")
     a = ap.parse_args()
+    cases = [c for c in CASES if a.cases is None or c[0] in a.cases]
+    unknown = set(a.cases or ()) - {c[0] for c in CASES}
+    if unknown:
+        ap.error(f"unknown case(s) {sorted(unknown)}; known: {[c[0] for c in CASES]}")
     with ProcessPoolExecutor(max_workers=a.workers) as ex:
         times = []
         for _ in range(a.repeat):
             t0 = time.perf_counter()
             d = diagnose(ROOT / "examples" / "hidden-effect", executor=ex)
             times.append(time.perf_counter() - t0)
-        print(
-            f"example diagnosis ({len(d.train_ids) + len(d.val_ids)} runs, {a.workers} workers): "
-            f"median {statistics.median(times):.1f} s over {a.repeat} (min {min(times):.1f}, "
-            f"max {max(times):.1f}); causes {d.causes}",
-            flush=True,
-        )
+        if times:
+            print(
+                f"example diagnosis ({len(d.train_ids) + len(d.val_ids)} runs, "
+                f"{a.workers} workers): median {statistics.median(times):.1f} s over "
+                f"{a.repeat} (min {min(times):.1f}, max {max(times):.1f}); causes {d.causes}",
+                flush=True,
+            )
         rows = []
         with tempfile.TemporaryDirectory() as tmp:
-            for name, causes, kw in CASES:
+            for name, causes, kw in cases:
                 hits, misses = 0, []
                 for seed in range(a.first_seed, a.first_seed + a.seeds):
                     rng = np.random.default_rng(seed)
