@@ -40,7 +40,7 @@ static void usage(FILE *f)
                "  --direction D        +1 (forward) or -1 (backward)\n"
                "  --cycles N           periods played\n"
                "  --hold-s T           time recorded after the last period (drive at offset)\n"
-               "  --model ls|lugre     friction model (default ls)\n"
+               "  --model ls|lugre|gms friction model (default ls)\n"
                "  --dt-s DT            integration step (default 1e-6)\n"
                "  --decimation N       write every N-th step (default 1)\n"
                "  --out FILE           output CSV (default: standard output)\n"
@@ -148,8 +148,8 @@ int main(int argc, char **argv)
         case O_CYC: e = parse_long("--cycles", optarg, 0, 1000000, &cycles); break;
         case O_HOLD: e = parse_double("--hold-s", optarg, &hold); break;
         case O_MODEL:
-            if (strcmp(optarg, "ls") != 0 && strcmp(optarg, "lugre") != 0) {
-                return fail("expected ls or lugre, got", "--model", optarg);
+            if (strcmp(optarg, "ls") != 0 && strcmp(optarg, "lugre") != 0 && strcmp(optarg, "gms") != 0) {
+                return fail("expected ls, lugre or gms, got", "--model", optarg);
             }
             model = optarg;
             break;
@@ -191,7 +191,9 @@ int main(int argc, char **argv)
 
     ss_actuator_config_f32_t cfg = ss_actuator_config_table1_f32();
     cfg.dt_s = (float)dt;
-    cfg.friction_model = (strcmp(model, "lugre") == 0) ? SS_FRICTION_LUGRE : SS_FRICTION_LS;
+    cfg.friction_model = (strcmp(model, "lugre") == 0) ? SS_FRICTION_LUGRE
+                         : (strcmp(model, "gms") == 0) ? SS_FRICTION_GMS
+                                                       : SS_FRICTION_LS;
     ss_waveform_config_f32_t wave =
         ss_waveform_sawtooth_f32((float)f, (float)a, (float)off, (float)r, (int32_t)dir, (uint32_t)cycles);
     ss_waveform_state_f32_t wst;
@@ -223,9 +225,13 @@ int main(int argc, char **argv)
             return 1;
         }
     }
-    const int lugre = (cfg.friction_model == SS_FRICTION_LUGRE);
-    fprintf(out, "t_s,drive_v,x_p_m,x_rod_m,x_slider_m,friction_n,%s\n",
-            lugre ? "z_m,zdot_m_per_s" : "level_n,presliding_n");
+    const char *states = "level_n,presliding_n";
+    if (cfg.friction_model == SS_FRICTION_LUGRE) {
+        states = "z_m,zdot_m_per_s";
+    } else if (cfg.friction_model == SS_FRICTION_GMS) {
+        states = "level_n,elastic_n";
+    }
+    fprintf(out, "t_s,drive_v,x_p_m,x_rod_m,x_slider_m,friction_n,%s\n", states);
 
     /* cppcheck-suppress unassignedVariable ; written by the library through the trace struct */
     static uint32_t step[CHUNK_ROWS];

@@ -16,6 +16,7 @@ _HERE = Path(__file__).resolve().parent
 SS_OK = 0  # ss_status.h
 SS_FRICTION_LS = 0
 SS_FRICTION_LUGRE = 1
+SS_FRICTION_GMS = 2  # float family only: the q converter refuses it
 SS_WAVE_SAWTOOTH = 0
 SS_WAVE_SAMPLED = 1
 
@@ -189,6 +190,7 @@ _ABI = {
 }
 _ABI_ACTUATOR_STATE_Q, _ABI_WAVEFORM_STATE_Q = 10, 12
 _ABI_ACTUATOR_STATE, _ABI_WAVEFORM_STATE, _ABI_LS_STATE, _ABI_LUGRE_STATE = 2, 4, 5, 6
+_ABI_GMS_STATE = 21
 
 
 def _candidates() -> list[Path]:
@@ -256,7 +258,7 @@ _proto(
 _proto("ss_waveform_init_f32", C.c_int, C.POINTER(WaveformConfig), C.c_float, _P)
 _proto("ss_waveform_value_f32", C.c_float, C.POINTER(WaveformConfig), _P)
 _proto("ss_waveform_fill_f32", C.c_int, C.POINTER(WaveformConfig), _P, _FP, C.c_uint32)
-for _m in ("ls", "lugre"):
+for _m in ("ls", "lugre", "gms"):
     _proto(f"ss_{_m}_init_f32", C.c_int, C.POINTER(FrictionConfig), _P)
     _proto(
         f"ss_{_m}_run_f32", C.c_int, C.POINTER(FrictionConfig), _P, _FP, C.c_uint32, C.c_float, _FP
@@ -356,8 +358,15 @@ def new_waveform_state() -> C.Array:
     return opaque(_ABI_WAVEFORM_STATE)
 
 
+_FRICTION_STATE_ABI = {
+    SS_FRICTION_LS: _ABI_LS_STATE,
+    SS_FRICTION_LUGRE: _ABI_LUGRE_STATE,
+    SS_FRICTION_GMS: _ABI_GMS_STATE,
+}
+
+
 def new_friction_state(kind: int) -> C.Array:
-    return opaque(_ABI_LUGRE_STATE if kind == SS_FRICTION_LUGRE else _ABI_LS_STATE)
+    return opaque(_FRICTION_STATE_ABI[kind])
 
 
 def float_ptr(a: np.ndarray):

@@ -12,14 +12,22 @@ import numpy as np
 
 from . import _native as N
 
-MODELS = ("ls", "lugre")
+MODELS = ("ls", "lugre", "gms")  # the friction laws of docs/model.md
 VARIANTS = ("f32", "q")  # float32 core, fixed-point core (docs/fixed-point.md)
 
 
 def _model_id(model: str) -> int:
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}, got {model!r}")
-    return N.SS_FRICTION_LUGRE if model == "lugre" else N.SS_FRICTION_LS
+    return {"ls": N.SS_FRICTION_LS, "lugre": N.SS_FRICTION_LUGRE, "gms": N.SS_FRICTION_GMS}[model]
+
+
+# names of the recorded state columns state_a, state_b (ss_actuator_trace_f32_t)
+STATE_NAMES = {
+    "ls": ("level_n", "presliding_n"),  # break-away level s, Masing presliding force F_M
+    "lugre": ("z_m", "zdot_m_per_s"),  # bristle deflection and its rate
+    "gms": ("level_n", "elastic_n"),  # slip level s, sum of the element forces
+}
 
 
 @dataclass(frozen=True)
@@ -217,7 +225,7 @@ class SimResult:
 
     @property
     def state_names(self) -> tuple[str, str]:
-        return ("z_m", "zdot_m_per_s") if self.model == "lugre" else ("level_n", "presliding_n")
+        return STATE_NAMES[self.model]
 
     def cycle_boundaries(self) -> np.ndarray:
         """Indices of the samples nearest to t = k / f, k = 0..cycles."""
@@ -436,11 +444,7 @@ def friction_response(
     dx = np.ascontiguousarray(np.diff(np.asarray(x_m, np.float64), prepend=x_m[0]), np.float32)
     out = np.zeros_like(dx)
     st = N.new_friction_state(kind)
-    init, run = (
-        (N.lib.ss_lugre_init_f32, N.lib.ss_lugre_run_f32)
-        if kind == N.SS_FRICTION_LUGRE
-        else (N.lib.ss_ls_init_f32, N.lib.ss_ls_run_f32)
-    )
+    init, run = getattr(N.lib, f"ss_{model}_init_f32"), getattr(N.lib, f"ss_{model}_run_f32")
     N.check(init(C.byref(fcfg), st), "friction parameters")
     N.check(
         run(C.byref(fcfg), st, N.float_ptr(dx), len(dx), dt_s, N.float_ptr(out)), "friction run"

@@ -98,7 +98,9 @@ def simulate_reference(
     time_limit_s: float | None = None,
 ) -> ReferenceResult:
     """Integrate to the end of the waveform (plus hold_s). Raises TimeoutError past time_limit_s
-    of wall time (loose tolerances can chatter on the stick events)."""
+    of wall time (loose tolerances can chatter on the stick events). LS and LuGre only."""
+    if model not in ("ls", "lugre"):
+        raise ValueError(f"the reference solver integrates 'ls' and 'lugre', got {model!r}")
     started = time.monotonic()
     p = params or ActuatorParams.table1()
     fs, fc, vs = p.fs_n, p.fc_n, p.stribeck_velocity_m_per_s

@@ -23,7 +23,8 @@ typedef enum {
     SS_ABI_LUGRE_STATE_Q = 14,
     SS_ABI_ACTUATOR_TRACE_Q = 15,
     SS_ABI_ACTUATOR_SI = 16,
-    SS_ABI_EFFECTS_CONFIG_F32 = 20
+    SS_ABI_EFFECTS_CONFIG_F32 = 20,
+    SS_ABI_GMS_STATE_F32 = 21
 } ss_abi_struct_t;
 
 /* sizeof the struct, or 0 for an unknown id. */

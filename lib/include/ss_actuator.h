@@ -7,11 +7,12 @@
 #include <stdint.h>
 #include "ss_effects.h"
 #include "ss_friction.h"
+#include "ss_gms_friction.h"
 #include "ss_ls_friction.h"
 #include "ss_lugre.h"
 #include "ss_waveform.h"
 
-typedef enum { SS_FRICTION_LS = 0, SS_FRICTION_LUGRE = 1 } ss_friction_kind_t;
+typedef enum { SS_FRICTION_LS = 0, SS_FRICTION_LUGRE = 1, SS_FRICTION_GMS = 2 } ss_friction_kind_t;
 
 typedef struct {
     float piezo_stiffness_n_per_m; /* k, [1, 1e12] */
@@ -45,6 +46,7 @@ typedef struct {
     union {
         ss_ls_state_f32_t ls;
         ss_lugre_state_f32_t lugre;
+        ss_gms_state_f32_t gms; /* float family only: the q converter refuses friction_model 2 */
     } fr;
 } ss_actuator_state_f32_t;
 
@@ -80,8 +82,8 @@ typedef struct {
     float *v_rod_m_per_s;
     float *v_slider_m_per_s;
     float *force_n;
-    float *state_a;    /* LS: break-away level s (N);    LuGre: bristle z (m) */
-    float *state_b;    /* LS: presliding force F_M (N); LuGre: dz/dt (m/s) */
+    float *state_a;    /* LS: break-away level s (N);    LuGre: bristle z (m);    GMS: slip level s (N) */
+    float *state_b;    /* LS: presliding force F_M (N); LuGre: dz/dt (m/s); GMS: elastic force sum F_i (N) */
     float *x_meas_m;   /* slider position as the sensor reports it (effects.sensor_scale_error) */
     uint32_t capacity; /* rows the buffers hold */
 } ss_actuator_trace_f32_t;

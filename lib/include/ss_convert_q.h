@@ -19,7 +19,8 @@
 
 /* The conversions below return SS_OK, SS_ERR_NULL, SS_ERR_NONFINITE or SS_ERR_RANGE. On error
  * *bad_field (when not NULL) names the float field whose value does not pass the float check or
- * does not fit its Q format, e.g. "friction.vs_m_per_s" or "rod_mass_kg" (kick_rod_q40 too big). */
+ * does not fit its Q format, e.g. "friction.vs_m_per_s" or "rod_mass_kg" (kick_rod_q40 too big).
+ * The q family has LS and LuGre only: friction_model SS_FRICTION_GMS is refused as "friction_model". */
 ss_status_t ss_friction_config_to_q(const ss_friction_config_f32_t *in, ss_friction_config_q_t *out,
                                     const char **bad_field);
 ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actuator_config_q_t *out,

@@ -24,6 +24,7 @@ uint32_t ss_abi_sizeof(int32_t which)
     case SS_ABI_ACTUATOR_TRACE_Q: return (uint32_t)sizeof(ss_actuator_trace_q_t);
     case SS_ABI_ACTUATOR_SI: return (uint32_t)sizeof(ss_actuator_si_t);
     case SS_ABI_EFFECTS_CONFIG_F32: return (uint32_t)sizeof(ss_effects_config_f32_t);
+    case SS_ABI_GMS_STATE_F32: return (uint32_t)sizeof(ss_gms_state_f32_t);
     default: return 0u;
     }
 }

@@ -59,7 +59,8 @@ ss_status_t ss_actuator_config_check_f32(const ss_actuator_config_f32_t *cfg, co
         *bad = "piezo_gain_m_per_v";
         return SS_ERR_RANGE;
     }
-    if (cfg->friction_model != SS_FRICTION_LS && cfg->friction_model != SS_FRICTION_LUGRE) {
+    if (cfg->friction_model != SS_FRICTION_LS && cfg->friction_model != SS_FRICTION_LUGRE &&
+        cfg->friction_model != SS_FRICTION_GMS) {
         *bad = "friction_model";
         return SS_ERR_RANGE;
     }
@@ -125,6 +126,10 @@ static float friction_step(const ss_actuator_config_f32_t *cfg, ss_actuator_stat
         ss_lugre_advance_f32(fr, &st->fr.lugre, dx, cfg->dt_s);
         return ss_lugre_force_at_f32(fr, &st->fr.lugre, v_end, dfdv);
     }
+    if (cfg->friction_model == SS_FRICTION_GMS) {
+        ss_gms_advance_f32(fr, &st->fr.gms, dx, cfg->dt_s);
+        return ss_gms_force_at_f32(fr, &st->fr.gms, v_end, dfdv);
+    }
     ss_ls_advance_f32(fr, &st->fr.ls, dx, cfg->dt_s);
     return ss_ls_force_at_f32(fr, &st->fr.ls, v_end, dfdv);
 }
@@ -174,6 +179,8 @@ ss_status_t ss_actuator_init_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
     }
     if (cfg->friction_model == SS_FRICTION_LUGRE) {
         status = ss_lugre_init_f32(&cfg->friction, &st->fr.lugre);
+    } else if (cfg->friction_model == SS_FRICTION_GMS) {
+        status = ss_gms_init_f32(&cfg->friction, &st->fr.gms);
     } else {
         status = ss_ls_init_f32(&cfg->friction, &st->fr.ls);
     }
@@ -266,10 +273,25 @@ void ss_actuator_place_slider_f32(ss_actuator_state_f32_t *st, float x_m)
     st->x_slider.lo_m = 0.0f;
 }
 
+/* The friction model's two recorded states (ss_actuator_trace_f32_t: state_a, state_b). */
+static void friction_columns(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st, float *a,
+                             float *b)
+{
+    if (cfg->friction_model == SS_FRICTION_LUGRE) {
+        *a = st->fr.lugre.z_m;
+        *b = st->fr.lugre.zdot_m_per_s;
+    } else if (cfg->friction_model == SS_FRICTION_GMS) {
+        *a = st->fr.gms.level_n;
+        *b = st->fr.gms.elastic_n;
+    } else {
+        *a = st->fr.ls.level_n;
+        *b = st->fr.ls.fm_n;
+    }
+}
+
 void ss_actuator_record_f32(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
                             ss_actuator_trace_f32_t *tr, uint32_t row)
 {
-    const int lugre = (cfg->friction_model == SS_FRICTION_LUGRE);
     if (tr->step != NULL) {
         tr->step[row] = st->steps;
     }
@@ -294,11 +316,14 @@ void ss_actuator_record_f32(const ss_actuator_config_f32_t *cfg, const ss_actuat
     if (tr->force_n != NULL) {
         tr->force_n[row] = st->force_n;
     }
+    float state_a;
+    float state_b;
+    friction_columns(cfg, st, &state_a, &state_b);
     if (tr->state_a != NULL) {
-        tr->state_a[row] = lugre ? st->fr.lugre.z_m : st->fr.ls.level_n;
+        tr->state_a[row] = state_a;
     }
     if (tr->state_b != NULL) {
-        tr->state_b[row] = lugre ? st->fr.lugre.zdot_m_per_s : st->fr.ls.fm_n;
+        tr->state_b[row] = state_b;
     }
     if (tr->x_meas_m != NULL) {
         tr->x_meas_m[row] = ss_effects_sensor_f32(&cfg->effects, ss_position_value_f32(st->x_slider));

@@ -117,6 +117,11 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
         *bad = "out";
         return SS_ERR_NULL;
     }
+    if (in->friction_model != SS_FRICTION_LS && in->friction_model != SS_FRICTION_LUGRE) {
+        /* the q family has LS and LuGre only; GMS is a float-family law. Refused, never swapped. */
+        *bad = "friction_model";
+        return SS_ERR_RANGE;
+    }
     /* the q family models no effects (yet): a config that asks for one is refused, never run
      * without it. A zeroed effects struct is the base model. */
     static const char *const effect_names[] = {"effects.hysteresis_alpha", "effects.creep_ratio",

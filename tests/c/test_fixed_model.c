@@ -78,6 +78,10 @@ static void test_converter_names_bad_fields(void **unused)
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "effects.load_n");
     c = ok;
+    c.friction_model = SS_FRICTION_GMS; /* a float-family law: refused, never run as LS */
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction_model");
+    c = ok;
     c.effects.sensor_scale_error = 0.01f;
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "effects.sensor_scale_error");

@@ -1,0 +1,445 @@
+/* GMS friction (docs/model.md, "GMS (third law)"): the piecewise-linear virgin curve, stiffness
+ * sigma0, saturation, wiping-out, rate independence, the Stribeck curve in steady sliding, and the
+ * actuator driven through it (steps, convergence, effects). */
+#include "ss_test.h"
+
+#include <float.h>
+
+#include "ss_abi.h"
+#include "ss_actuator.h"
+#include "ss_convert_q.h"
+#include "ss_gms_friction.h"
+
+static ss_friction_config_f32_t table1(void)
+{
+    return ss_friction_config_table1_f32();
+}
+
+/* Move a GMS contact from its current position to x_to in steps of at most |h|, at speed v. */
+static float gms_move(const ss_friction_config_f32_t *c, ss_gms_state_f32_t *st, double *x, double x_to,
+                      double h, double v)
+{
+    float f = st->force_n;
+    while (fabs(x_to - *x) > 1e-15) {
+        double dx = x_to - *x;
+        if (fabs(dx) > h) {
+            dx = (dx > 0) ? h : -h;
+        }
+        f = ss_gms_step_f32(c, st, (float)dx, (float)(fabs(dx) / v));
+        *x += dx;
+    }
+    return f;
+}
+
+/* The virgin curve of docs/model.md: sum over i of min(sigma0 u / N, alpha_i Fs), alpha_i = (2i-1)/N^2. */
+static double virgin_curve(const ss_friction_config_f32_t *c, double u)
+{
+    const double n = SS_GMS_ELEMENTS;
+    double f = 0.0;
+    for (int i = 1; i <= SS_GMS_ELEMENTS; ++i) {
+        f += fmin((double)c->sigma0_n_per_m / n * fabs(u), (2.0 * i - 1.0) / (n * n) * (double)c->fs_n);
+    }
+    return (u < 0.0) ? -f : f;
+}
+
+static void test_gms_api(void **unused)
+{
+    (void)unused;
+    ss_friction_config_f32_t c = table1();
+    ss_gms_state_f32_t st;
+    assert_int_equal(ss_gms_init_f32(&c, NULL), SS_ERR_NULL);
+    assert_int_equal(ss_gms_init_f32(NULL, &st), SS_ERR_NULL);
+    c.fc_n = 1.01f * c.fs_n;
+    assert_int_equal(ss_gms_init_f32(&c, &st), SS_ERR_RANGE);
+    c = table1();
+    assert_int_equal(ss_gms_init_f32(&c, &st), SS_OK);
+    assert_true(st.level_n == c.fs_n);
+    /* non-finite input changes nothing */
+    ss_gms_step_f32(&c, &st, 1e-8f, 1e-6f);
+    const ss_gms_state_f32_t keep = st;
+    assert_true(ss_gms_step_f32(&c, &st, NAN, 1e-6f) == keep.force_n);
+    assert_true(ss_gms_step_f32(&c, &st, 1e-9f, 0.0f) == keep.force_n);
+    ss_gms_advance_f32(&c, &st, INFINITY, 1e-6f);
+    assert_memory_equal(&st, &keep, sizeof st);
+    /* run = the same steps one by one */
+    const float dx[4] = {1e-8f, 2e-8f, -5e-9f, 3e-8f};
+    float f_run[4];
+    ss_gms_state_f32_t a, b;
+    ss_gms_init_f32(&c, &a);
+    ss_gms_init_f32(&c, &b);
+    assert_int_equal(ss_gms_run_f32(&c, &a, dx, 4, 1e-6f, f_run), SS_OK);
+    for (int i = 0; i < 4; ++i) {
+        assert_true(f_run[i] == ss_gms_step_f32(&c, &b, dx[i], 1e-6f));
+    }
+    assert_int_equal(ss_gms_run_f32(&c, &a, NULL, 4, 1e-6f, f_run), SS_ERR_NULL);
+    assert_int_equal(ss_gms_run_f32(&c, &a, dx, 4, 0.0f, f_run), SS_ERR_RANGE);
+    const float bad[1] = {NAN};
+    assert_int_equal(ss_gms_run_f32(&c, &a, bad, 1, 1e-6f, f_run), SS_ERR_NONFINITE);
+    assert_int_equal(ss_abi_sizeof(SS_ABI_GMS_STATE_F32), sizeof(ss_gms_state_f32_t));
+    /* the slope for the actuator's implicit damping: sigma2, the elements do not depend on v */
+    float dfdv = 0.0f;
+    ss_gms_force_at_f32(&c, &a, 1e-3f, &dfdv);
+    assert_true(dfdv == c.sigma2_ns_per_m);
+}
+
+/* First loading follows the piecewise-linear curve to float32 rounding, at any step size: the
+ * Maxwell-slip elements are exact in displacement. Steps of 2^-27 m keep every element force an
+ * exact float (k dx = 78125 * 2^-22 N), so the only rounding is the sum over the elements. */
+static void test_gms_virgin_curve_is_piecewise_linear(void **unused)
+{
+    (void)unused;
+    ss_friction_config_f32_t c = table1();
+    c.sigma2_ns_per_m = 0.0f;
+    const double h = ldexp(1.0, -27);
+    for (int dir = -1; dir <= 1; dir += 2) {
+        ss_gms_state_f32_t st;
+        ss_gms_init_f32(&c, &st);
+        double worst = 0.0;
+        for (int n = 1; n <= 134; ++n) { /* to 1.0 um, past full slip at 1.75 Fs / sigma0 = 0.63 um */
+            const float f = ss_gms_step_f32(&c, &st, (float)(dir * h), 1.0f); /* 7.5 nm/s: g(v) = Fs */
+            worst = fmax(worst, fabs(f - virgin_curve(&c, dir * n * h)));
+        }
+        print_message("virgin curve, direction %+d: worst difference %.3g N (%.2g Fs)\n", dir, worst,
+                      worst / (double)c.fs_n);
+        assert_true(worst <= 4.0 * FLT_EPSILON * (double)c.fs_n);
+    }
+    /* one step of 0.5 um lands on the same curve as 67 small ones */
+    ss_gms_state_f32_t st;
+    ss_gms_init_f32(&c, &st);
+    const float f = ss_gms_step_f32(&c, &st, 0.5e-6f, 1.0f);
+    assert_close(f, virgin_curve(&c, (double)0.5e-6f), 4.0 * FLT_EPSILON * (double)c.fs_n);
+}
+
+/* sigma0 is the initial stiffness, from rest and right after any reversal. */
+static void test_gms_initial_stiffness(void **unused)
+{
+    (void)unused;
+    const ss_friction_config_f32_t c = table1();
+    ss_gms_state_f32_t st;
+    ss_gms_init_f32(&c, &st);
+    double x = 0.0;
+    const double viscous = 1e-6 * c.sigma2_ns_per_m; /* at 1 um/s */
+    const float f1 = gms_move(&c, &st, &x, 1e-10, 1e-10, 1e-6);
+    assert_close((f1 - viscous) / 1e-10, c.sigma0_n_per_m, 1e-3 * c.sigma0_n_per_m);
+    /* at 0.5 um three of the four elements have slipped; back off 0.1 nm: all stick again */
+    const float fa = gms_move(&c, &st, &x, 0.5e-6, 1e-9, 1e-6);
+    const float fb = gms_move(&c, &st, &x, 0.5e-6 - 1e-10, 1e-10, 1e-6);
+    assert_close((fa - fb - 2.0 * viscous) / 1e-10, c.sigma0_n_per_m, 2e-3 * c.sigma0_n_per_m);
+}
+
+/* Slow sliding saturates at Fs in either direction, with every element at its slip level. */
+static void test_gms_saturation(void **unused)
+{
+    (void)unused;
+    ss_friction_config_f32_t c = table1();
+    c.sigma2_ns_per_m = 0.0f;
+    for (int dir = -1; dir <= 1; dir += 2) {
+        ss_gms_state_f32_t st;
+        ss_gms_init_f32(&c, &st);
+        double x = 0.0;
+        const float f = gms_move(&c, &st, &x, dir * 3e-6, 1e-9, 1e-8);
+        assert_close(f, dir * c.fs_n, 1e-6 * c.fs_n);
+        assert_int_equal(st.sliding, dir);
+        for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
+            assert_close(fabsf(st.f_n[i]), (2.0 * i + 1.0) / 16.0 * c.fs_n, 1e-6 * c.fs_n);
+        }
+        assert_true(fabsf(st.force_n) <= c.fs_n * (1.0f + FLT_EPSILON));
+    }
+}
+
+/* Wiping-out: a closed minor loop returns to its start force, and the path goes on as if the
+ * loop had not been. */
+static void test_gms_wiping_out(void **unused)
+{
+    (void)unused;
+    const ss_friction_config_f32_t c = table1();
+    ss_gms_state_f32_t a, b;
+    ss_gms_init_f32(&c, &a);
+    ss_gms_init_f32(&c, &b);
+    double xa = 0.0, xb = 0.0;
+    const double v = 1e-6, h = 1e-9;
+    /* a: -0.4 um, then up to 0.3 um; b: the same with a minor loop 0.1 -> -0.2 -> 0.1 um, deep
+     * enough that the softest element slips both ways (break-away after 2 x 0.09 um) */
+    gms_move(&c, &a, &xa, -0.4e-6, h, v);
+    gms_move(&c, &b, &xb, -0.4e-6, h, v);
+    const float f_start = gms_move(&c, &b, &xb, 0.1e-6, h, v);
+    const float f_low = gms_move(&c, &b, &xb, -0.2e-6, h, v);
+    const float f_back = gms_move(&c, &b, &xb, 0.1e-6, h, v);
+    const float fa = gms_move(&c, &a, &xa, 0.3e-6, h, v);
+    const float fb = gms_move(&c, &b, &xb, 0.3e-6, h, v);
+    print_message("minor loop: start %.6g N, turn %.6g N, back %.6g N; at 0.3 um %.6g vs %.6g N\n",
+                  (double)f_start, (double)f_low, (double)f_back, (double)fa, (double)fb);
+    assert_true(f_low < f_start - 0.5f); /* a real loop */
+    assert_close(f_back, f_start, 1e-5 * c.fs_n);
+    assert_close(fb, fa, 1e-5 * c.fs_n);
+    for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
+        assert_close(b.f_n[i], a.f_n[i], 1e-5 * c.fs_n);
+    }
+}
+
+/* Presliding depends on the path only: the same loop, partly slipping (two of the four elements)
+ * but never sliding as a whole, at 10 Hz and at 1 kHz gives the same forces. The displacement
+ * samples are the same; only the time per sample differs (100 us and 1 us). sigma2 off, since
+ * sigma2 v is rate dependent by definition. */
+static void test_gms_rate_independent(void **unused)
+{
+    (void)unused;
+    ss_friction_config_f32_t c = table1();
+    c.sigma2_ns_per_m = 0.0f;
+    const double amp = 0.36e-6; /* Fs / sigma0: elements 1 and 2 slip, 3 and 4 do not */
+    const double hz[2] = {10.0, 1000.0};
+    enum { PER_CYCLE = 1000 };
+    static float f[2][3 * PER_CYCLE];
+    for (int k = 0; k < 2; ++k) {
+        ss_gms_state_f32_t st;
+        ss_gms_init_f32(&c, &st);
+        const double dt = 1.0 / (hz[k] * PER_CYCLE);
+        double x = 0.0;
+        for (int i = 0; i < 3 * PER_CYCLE; ++i) { /* triangle 0 -> amp -> -amp -> 0, three cycles */
+            const double ph = (double)((i + 1) % PER_CYCLE) / PER_CYCLE;
+            const double x1 = amp * ((ph < 0.25) ? 4.0 * ph : (ph < 0.75) ? 2.0 - 4.0 * ph : 4.0 * ph - 4.0);
+            f[k][i] = ss_gms_step_f32(&c, &st, (float)(x1 - x), (float)dt);
+            x = x1;
+            assert_int_equal(st.sliding, 0);
+        }
+        assert_true(st.level_n == c.fs_n);
+    }
+    double worst = 0.0;
+    for (int i = 0; i < 3 * PER_CYCLE; ++i) {
+        worst = fmax(worst, fabs((double)f[1][i] - (double)f[0][i]));
+    }
+    /* hysteresis: at x = 0 the rising and the falling branch differ */
+    const double gap = (double)f[0][2 * PER_CYCLE - 1] - (double)f[0][2 * PER_CYCLE + PER_CYCLE / 2 - 1];
+    print_message("10 Hz vs 1 kHz: worst difference %.3g N; branch gap at x = 0: %.4g N\n", worst, gap);
+    assert_true(worst <= 1e-5 * c.fs_n);
+    assert_true(fabs(gap) > 0.1 * c.fs_n);
+}
+
+/* Steady sliding follows the Stribeck curve plus viscous friction. */
+static void test_gms_steady_sliding_is_stribeck(void **unused)
+{
+    (void)unused;
+    const ss_friction_config_f32_t c = table1();
+    const double speeds[] = {1e-6, 1e-4, 4e-4, 1e-3, 1e-2};
+    for (size_t i = 0; i < sizeof speeds / sizeof speeds[0]; ++i) {
+        for (int dir = -1; dir <= 1; dir += 2) {
+            ss_gms_state_f32_t st;
+            ss_gms_init_f32(&c, &st);
+            double x = 0.0;
+            const float f = gms_move(&c, &st, &x, dir * 20e-6, 1e-9, speeds[i]);
+            const double v = dir * speeds[i];
+            const double expect = dir * (double)ss_stribeck_f32(&c, (float)v) + c.sigma2_ns_per_m * v;
+            assert_int_equal(st.sliding, dir);
+            assert_close(f, expect, 1e-4 * fabs(expect));
+        }
+    }
+}
+
+/* Asymmetric friction scales the contact force by 1 + a sgn(load), as in LS. */
+static void test_gms_asymmetric_sliding(void **unused)
+{
+    (void)unused;
+    ss_friction_config_f32_t c = table1();
+    c.asymmetry = 0.2f;
+    for (int dir = -1; dir <= 1; dir += 2) {
+        ss_gms_state_f32_t st;
+        ss_gms_init_f32(&c, &st);
+        double x = 0.0;
+        const float f = gms_move(&c, &st, &x, dir * 20e-6, 1e-9, 1e-3);
+        const double expect = dir * (1.0 + dir * 0.2) * (double)ss_stribeck_f32(&c, 1e-3f) + dir * 1e-3 * 8.0;
+        assert_close(f, expect, 1e-4 * fabs(expect));
+    }
+}
+
+/* Mean step per cycle over cycles [skip, cycles) of a 100 V sawtooth run with the slider starting
+ * at x0_m, in metres. */
+static double steady_step_at(ss_actuator_config_f32_t cfg, float x0_m, float f_hz, float rise, int dir,
+                             uint32_t cycles, uint32_t skip)
+{
+    ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(f_hz, 100.0f, 0.0f, rise, dir, cycles);
+    ss_waveform_state_f32_t ws;
+    ss_actuator_state_f32_t st;
+    assert_int_equal(ss_waveform_init_f32(&w, cfg.dt_s, &ws), SS_OK);
+    assert_int_equal(ss_actuator_init_f32(&cfg, &st, ss_waveform_value_f32(&w, &ws)), SS_OK);
+    ss_actuator_place_slider_f32(&st, x0_m);
+    double x_skip = 0.0;
+    uint32_t idx = 0;
+    while (ws.index < cycles) {
+        ss_waveform_advance_f32(&ws);
+        assert_int_equal(ss_actuator_step_f32(&cfg, &st, ss_waveform_value_f32(&w, &ws)), SS_OK);
+        if (ws.index != idx) {
+            idx = ws.index;
+            if (idx == skip) {
+                x_skip = (double)st.x_slider.hi_m + (double)st.x_slider.lo_m;
+            }
+        }
+    }
+    const double x_end = (double)st.x_slider.hi_m + (double)st.x_slider.lo_m;
+    return (x_end - x_skip) / (double)(cycles - skip);
+}
+
+static double steady_step(ss_actuator_config_f32_t cfg, float f_hz, float rise, int dir, uint32_t cycles,
+                          uint32_t skip)
+{
+    return steady_step_at(cfg, 0.0f, f_hz, rise, dir, cycles, skip);
+}
+
+/* The paper's drive, forward, from x0_m. */
+static double steady_step_from(ss_actuator_config_f32_t cfg, float x0_m, uint32_t cycles, uint32_t skip)
+{
+    return steady_step_at(cfg, x0_m, 500.0f, 0.95f, 1, cycles, skip);
+}
+
+static ss_actuator_config_f32_t gms_actuator(void)
+{
+    ss_actuator_config_f32_t c = ss_actuator_config_table1_f32();
+    c.friction_model = SS_FRICTION_GMS;
+    return c;
+}
+
+/* The paper's drive (Table I, 500 Hz, 100 V, rise fraction 0.95) steps the slider forward a few
+ * um per cycle; the reversed drive steps it back. */
+static void test_gms_actuator_steps(void **unused)
+{
+    (void)unused;
+    const ss_actuator_config_f32_t c = gms_actuator();
+    assert_int_equal(ss_actuator_config_check_f32(&c, NULL), SS_OK);
+    const double fwd = steady_step(c, 500.0f, 0.95f, 1, 6, 2);
+    const double rev = steady_step(c, 500.0f, 0.95f, -1, 6, 2);
+    print_message("GMS: forward %.5g um, reverse %.5g um per cycle\n", fwd * 1e6, rev * 1e6);
+    assert_true(fwd > 1e-6 && fwd < 4.4e-6);
+    assert_true(rev < -1e-6 && rev > -4.4e-6);
+    /* the recorded states are the level and the elastic force */
+    ss_actuator_state_f32_t st;
+    assert_int_equal(ss_actuator_init_f32(&c, &st, 0.0f), SS_OK);
+    for (int k = 0; k < 500; ++k) {
+        ss_actuator_step_f32(&c, &st, 0.1f * (float)k);
+    }
+    float a = 0.0f, b = 0.0f;
+    ss_actuator_trace_f32_t tr = {NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, &a, &b, NULL, 1};
+    ss_actuator_record_f32(&c, &st, &tr, 0);
+    assert_true(a == st.fr.gms.level_n);
+    assert_true(b == st.fr.gms.elastic_n);
+    assert_true(b != 0.0f);
+}
+
+/* Halving the 1 us step changes the settled step of the paper's run by less than 0.2 %. */
+static void test_gms_step_convergence(void **unused)
+{
+    (void)unused;
+    ss_actuator_config_f32_t c = gms_actuator();
+    const double s1 = steady_step(c, 500.0f, 0.95f, 1, 10, 2);
+    c.dt_s = 0.5e-6f;
+    const double s2 = steady_step(c, 500.0f, 0.95f, 1, 10, 2);
+    print_message("GMS: dt 1 us %.7g m, 0.5 us %.7g m, change %.3g %%\n", s1, s2,
+                  100.0 * fabs(s1 / s2 - 1.0));
+    assert_true(fabs(s1 / s2 - 1.0) < 2e-3);
+}
+
+/* Over 2000 cycles (8 mm of travel) the settled step stays what it was after 50 cycles: the state
+ * holds bounded element forces, not anchors that would grow with the travel. */
+static void test_gms_long_travel_keeps_resolution(void **unused)
+{
+    (void)unused;
+    const ss_actuator_config_f32_t c = gms_actuator();
+    const double early = steady_step(c, 500.0f, 0.99f, 1, 60, 50);
+    const double late = steady_step(c, 500.0f, 0.99f, 1, 2000, 1990);
+    print_message("GMS: step early %.7g m, after 2000 cycles %.7g m\n", early, late);
+    assert_close(late, early, 1e-5 * early);
+}
+
+/* The effects act on GMS as on LS: asymmetric friction parts forward and reverse steps, softer
+ * (warm) friction and a nearly sliding load do what they do with LS. */
+static void test_gms_actuator_effects(void **unused)
+{
+    (void)unused;
+    ss_actuator_config_f32_t c = gms_actuator();
+    const double fwd0 = steady_step(c, 500.0f, 0.95f, 1, 5, 1);
+    const double rev0 = steady_step(c, 500.0f, 0.95f, -1, 5, 1);
+    c.friction.asymmetry = 0.1f;
+    const double fwd = steady_step(c, 500.0f, 0.95f, 1, 5, 1);
+    const double rev = steady_step(c, 500.0f, 0.95f, -1, 5, 1);
+    print_message("asymmetry 0.1: forward %.4g -> %.4g um, reverse %.4g -> %.4g um\n", fwd0 * 1e6, fwd * 1e6,
+                  rev0 * 1e6, rev * 1e6);
+    assert_true(fwd > 1.05 * fwd0);
+    assert_true(-rev < 0.95 * -rev0);
+
+    /* more friction further out drags the slider back more on the fast edge: smaller steps */
+    c = gms_actuator();
+    c.effects.friction_gradient_per_m = 2000.0f; /* +20 % over 100 um */
+    const double near = steady_step(c, 500.0f, 0.95f, 1, 5, 1);
+    const double far = steady_step_from(c, 1e-4f, 5, 1);
+    print_message("friction gradient: step at 0 %.4g um, at 100 um %.4g um\n", near * 1e6, far * 1e6);
+    assert_true(far < 0.9 * near);
+
+    c = gms_actuator();
+    c.effects.thermal_coeff_per_j = 500.0f;
+    c.effects.thermal_tau_s = 1.0f;
+    const double warm = steady_step(c, 500.0f, 0.95f, 1, 11, 1);
+    const double cold = steady_step(gms_actuator(), 500.0f, 0.95f, 1, 11, 1);
+    print_message("thermal: cold %.5g um, warm %.5g um per cycle\n", cold * 1e6, warm * 1e6);
+    assert_true(warm > cold + 1e-9);
+
+    /* a load above Fs slides the slider off at the velocity where viscous friction takes the
+     * rest: (load - Fc) / sigma2 */
+    c = gms_actuator();
+    c.effects.load_n = 4.0f;
+    ss_actuator_state_f32_t st;
+    assert_int_equal(ss_actuator_init_f32(&c, &st, 0.0f), SS_OK);
+    for (int i = 0; i < 50000; ++i) {
+        assert_int_equal(ss_actuator_step_f32(&c, &st, 0.0f), SS_OK);
+    }
+    assert_close(st.v_slider_m_per_s, (4.0 - 3.0) / 8.0, 1e-3 * 0.125);
+    /* below Fs it is held: the slider rings about a rest point and stops */
+    c.effects.load_n = 1.0f;
+    assert_int_equal(ss_actuator_init_f32(&c, &st, 0.0f), SS_OK);
+    for (int i = 0; i < 40000; ++i) {
+        assert_int_equal(ss_actuator_step_f32(&c, &st, 0.0f), SS_OK);
+    }
+    assert_true(fabsf(st.v_slider_m_per_s) < 1e-4f);
+    assert_true(fabs((double)st.x_slider.hi_m - (double)st.x_rod_m) <
+                2.0 * c.friction.fs_n / c.friction.sigma0_n_per_m);
+}
+
+/* The fixed-point family has no GMS: the converter refuses it by name. */
+static void test_gms_refused_by_q_converter(void **unused)
+{
+    (void)unused;
+    const ss_actuator_config_f32_t c = gms_actuator();
+    ss_actuator_config_q_t q;
+    const char *bad = NULL;
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction_model");
+}
+
+/* The GMS state keeps the actuator's friction union no larger than LS alone makes it. */
+static void test_gms_state_size(void **unused)
+{
+    (void)unused;
+    const ss_actuator_state_f32_t *st = NULL;
+    print_message("sizeof: GMS state %zu, LS state %zu, actuator state %zu bytes\n",
+                  sizeof(ss_gms_state_f32_t), sizeof(ss_ls_state_f32_t), sizeof(ss_actuator_state_f32_t));
+    assert_true(sizeof(ss_gms_state_f32_t) <= sizeof(ss_ls_state_f32_t));
+    assert_int_equal(sizeof st->fr, sizeof(ss_ls_state_f32_t));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_gms_api),
+        cmocka_unit_test(test_gms_virgin_curve_is_piecewise_linear),
+        cmocka_unit_test(test_gms_initial_stiffness),
+        cmocka_unit_test(test_gms_saturation),
+        cmocka_unit_test(test_gms_wiping_out),
+        cmocka_unit_test(test_gms_rate_independent),
+        cmocka_unit_test(test_gms_steady_sliding_is_stribeck),
+        cmocka_unit_test(test_gms_asymmetric_sliding),
+        cmocka_unit_test(test_gms_actuator_steps),
+        cmocka_unit_test(test_gms_step_convergence),
+        cmocka_unit_test(test_gms_long_travel_keeps_resolution),
+        cmocka_unit_test(test_gms_actuator_effects),
+        cmocka_unit_test(test_gms_refused_by_q_converter),
+        cmocka_unit_test(test_gms_state_size),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
