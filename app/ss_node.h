@@ -1,7 +1,8 @@
-/* The stage-model node: the actuator of lib/ served over the protocol of docs/protocol.md.
- * Shared by the host simulator (port/posix) and the firmware (port/cortex_m). The model family is
- * chosen by the build: the float32 model by default, the fixed-point (_q) model when compiled with
- * SS_NODE_MODEL_Q (stickslip_node_q, stickslip_fw_q.elf); the protocol is the same. */
+/* The stage-model node: the actuator of lib/ served over the protocol of proto/ (docs/protocol.md).
+ * Shared by the host node (host_sim/ on port/posix) and the firmware (fw/ on port/cortex_m). The
+ * model family is chosen by the build: the float32 model by default, the fixed-point (_q) model
+ * when compiled with SS_NODE_MODEL_Q (stickslip_app_q: stickslip_node_q, stickslip_fw_q.elf); the
+ * protocol is the same. */
 #ifndef SS_NODE_H
 #define SS_NODE_H
 

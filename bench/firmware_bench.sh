@@ -16,7 +16,7 @@ bench() { # board, image: the image's lines
 }
 for t in "cortex-m4f mps2-an386" "cortex-m3 mps2-an385" "cortex-m0plus mps2-an385"; do
   set -- $t
-  fw=build/"$1"/port/cortex_m
+  fw=build/"$1"/fw
   cmake --preset "$1" >/dev/null
   cmake --build --preset "$1" >/dev/null
   echo "== $1 ($2)"

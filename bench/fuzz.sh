@@ -9,8 +9,8 @@ out=build/fuzz
 mkdir -p "$out/corpus" "$out/crashes"
 CC=${CC:-clang-14}
 $CC -std=c99 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -D_DEFAULT_SOURCE \
-  -Ilib/include -Iapp -Iport bench/fuzz/fuzz_parsers.c app/ss_node.c app/ss_can_msg.c port/ss_port_slcan.c \
-  lib/src/*.c -lm -o "$out/fuzz_parsers"
+  -Ilib/include -Iproto/include -Iapp bench/fuzz/fuzz_parsers.c app/ss_node.c proto/src/*.c lib/src/*.c -lm \
+  -o "$out/fuzz_parsers"
 # seeds: every frame of the shared vectors, and SLCAN lines
 i=0
 while IFS=, read -r t s p w; do

@@ -9,7 +9,8 @@
 
 #include "ss_node.h"
 #include "ss_port_posix.h"
-#include "ss_port_slcan.h"
+#include "ss_proto.h"
+#include "ss_slcan_port.h"
 #include "ss_port_socketcan.h"
 
 #ifndef SS_NODE_PROGRAM
@@ -51,6 +52,11 @@ int main(int argc, char **argv)
     static ss_socketcan_t socketcan;
     static ss_node_t node;
     const ss_port_can_t *can = NULL;
+    /* what a second TCP client hears before it is closed: ERROR busy (in the serial framing, on the
+     * SLCAN link too, as before the port stopped building it) */
+    static uint8_t refusal[SS_PROTO_MAX_WIRE];
+    const size_t refusal_len =
+        ss_proto_build_error(0, 0, SS_PERR_BUSY, 0, "another client is connected", refusal, sizeof refusal);
     int ok;
     if (argc == 2 && strcmp(argv[1], "--pty") == 0) {
         char path[256];
@@ -65,7 +71,7 @@ int main(int argc, char **argv)
             fprintf(stderr, SS_NODE_PROGRAM ": --tcp: expected a port number 0..65535, got '%s'\n", argv[2]);
             return 2;
         }
-        ok = ss_posix_tcp_listen(&link, (uint16_t)port) == 0;
+        ok = ss_posix_tcp_listen(&link, (uint16_t)port, refusal, refusal_len) == 0;
         if (ok) {
             printf(SS_NODE_PROGRAM ": serial tcp 127.0.0.1:%u\n", (unsigned)link.port);
         }
@@ -84,7 +90,7 @@ int main(int argc, char **argv)
                     argv[2]);
             return 2;
         }
-        ok = ss_posix_tcp_listen(&link, (uint16_t)port) == 0;
+        ok = ss_posix_tcp_listen(&link, (uint16_t)port, refusal, refusal_len) == 0;
         if (ok) {
             printf(SS_NODE_PROGRAM ": slcan tcp 127.0.0.1:%u\n", (unsigned)link.port);
         }

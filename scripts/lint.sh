@@ -3,16 +3,19 @@
 # Needs the dev tools (bash scripts/setup.sh --dev) and build/host/compile_commands.json.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-C_FILES=$(git ls-files 'lib/*.c' 'lib/*.h' 'app/*.c' 'app/*.h' 'host_sim/*.c' 'port/*.c' 'port/*.h' 'tests/c/*.c' \
-  'tests/c/*.h' 'bench/*.c')
-C_SOURCES=$(git ls-files 'lib/src/*.c' 'app/*.c' 'host_sim/*.c' 'port/*.c' | grep -v '^port/cortex_m/')
-FW_SOURCES=$(git ls-files 'port/cortex_m/*.c')
+C_FILES=$(git ls-files 'lib/*.c' 'lib/*.h' 'proto/*.c' 'proto/*.h' 'app/*.c' 'app/*.h' 'host_sim/*.c' 'port/*.c' \
+  'port/*.h' 'fw/*.c' 'fw/*.h' 'tests/c/*.c' 'tests/c/*.h' 'bench/*.c')
+C_SOURCES=$(git ls-files 'lib/src/*.c' 'proto/src/*.c' 'app/*.c' 'host_sim/*.c' 'port/*.c' | grep -v '^port/cortex_m/')
+FW_SOURCES=$(git ls-files 'port/cortex_m/*.c' 'fw/*.c')
+
+echo "lint: include layers"
+bash scripts/check_layers.sh
 
 echo "lint: clang-format"
 clang-format --dry-run --Werror $C_FILES
 echo "lint: cppcheck"
 cppcheck --enable=warning,style,performance,portability --std=c99 --inline-suppr --error-exitcode=1 -q \
-  -I lib/include -I app -I port -I port/posix $C_SOURCES $FW_SOURCES
+  -I lib/include -I proto/include -I app -I port/posix -I port/cortex_m -I fw $C_SOURCES $FW_SOURCES
 echo "lint: clang-tidy"
 clang-tidy -p build/host --quiet $C_SOURCES 2>/dev/null
 if [ -f build/cortex-m4f/compile_commands.json ]; then

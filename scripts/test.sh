@@ -14,8 +14,8 @@ cmake --preset coverage >/dev/null
 cmake --build --preset coverage
 find build/coverage -name '*.gcda' -delete
 ctest --preset coverage
-echo "C coverage of lib/, app/ and port/ (the cmocka tests):"
-.venv/bin/gcovr -r . --filter 'lib/' --filter 'app/' --filter 'port/' build/coverage --merge-mode-functions=separate --txt-metric line --print-summary | tail -16
+echo "C coverage of lib/, proto/, app/ and port/ (the cmocka tests):"
+.venv/bin/gcovr -r . --filter 'lib/' --filter 'proto/' --filter 'app/' --filter 'port/' build/coverage --merge-mode-functions=separate --txt-metric line --print-summary | tail -16
 .venv/bin/python -m coverage run -m pytest -q tests/python
 echo "Python coverage of the stickslip package (pytest):"
 .venv/bin/python -m coverage report --skip-empty

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "ss_node.h"
-#include "ss_port_slcan.h"
+#include "ss_slcan_port.h"
 
 typedef struct {
     const uint8_t *data;

@@ -13,8 +13,6 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "ss_proto.h"
-
 static uint64_t posix_time_us(void *ctx)
 {
     (void)ctx;
@@ -96,17 +94,13 @@ int ss_posix_pty_open(ss_posix_link_t *l, char *path, size_t cap)
 
 /* ---------------------------------------------------------------- tcp */
 
-static void refuse_second_client(int fd)
+/* The application's words to a client that comes while another is connected (this port knows no
+ * frame layout), then the door. */
+static void refuse_second_client(const ss_posix_link_t *l, int fd)
 {
-    static const char reason[] = "another client is connected";
-    uint8_t p[3 + sizeof reason];
-    uint8_t wire[64 + sizeof reason];
-    p[0] = 0;
-    p[1] = (uint8_t)SS_PERR_BUSY;
-    p[2] = 0;
-    memcpy(&p[3], reason, sizeof reason - 1u);
-    const size_t n = ss_proto_build(SS_MSG_ERROR, 0, p, sizeof p - 1u, wire, sizeof wire);
-    (void)write_all(fd, wire, n, 1);
+    if (l->refusal_len > 0u) {
+        (void)write_all(fd, l->refusal, l->refusal_len, 1);
+    }
     close(fd);
 }
 
@@ -131,7 +125,7 @@ static void accept_pending(ss_posix_link_t *l)
             l->session_over = 1;
         }
         if (l->client_fd >= 0) {
-            refuse_second_client(fd);
+            refuse_second_client(l, fd);
             continue;
         }
         const int one = 1;
@@ -173,10 +167,12 @@ static int32_t tcp_write(void *ctx, const uint8_t *buf, size_t n)
     return write_all(l->client_fd, buf, n, 1);
 }
 
-int ss_posix_tcp_listen(ss_posix_link_t *l, uint16_t port)
+int ss_posix_tcp_listen(ss_posix_link_t *l, uint16_t port, const uint8_t *refusal, size_t refusal_len)
 {
     memset(l, 0, sizeof *l);
     l->master_fd = l->slave_fd = l->client_fd = -1;
+    l->refusal = refusal;
+    l->refusal_len = refusal != 0 ? refusal_len : 0u;
     l->listen_fd = socket(AF_INET, SOCK_STREAM, 0);
     if (l->listen_fd < 0) {
         return -1;

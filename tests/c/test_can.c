@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "ss_can_msg.h"
-#include "ss_port_slcan.h"
+#include "ss_slcan_port.h"
 
 static double field(const char *json, const char *key)
 {

@@ -575,7 +575,7 @@ static void test_q_waveform(void **unused)
     assert_int_equal(ss_waveform_init_q(&wq, dt_q, &st), SS_ERR_RANGE);
 }
 
-/* The q arithmetic is bit-identical on every target: port/cortex_m/q_check.c runs this same drive
+/* The q arithmetic is bit-identical on every target: fw/q_check.c runs this same drive
  * on the Cortex-M0+ build and exits non-zero unless it lands on the same 2^-40 m. */
 static void test_q_bit_exact_reference(void **unused)
 {

@@ -1,4 +1,4 @@
-"""The fixed-point firmware (port/cortex_m/main_q_cortex_m.c) in QEMU's MPS2 board: the paper's
+"""The fixed-point firmware (fw/main_q_cortex_m.c) in QEMU's MPS2 board: the paper's
 staircase it sends over its emulated UART is, integer for integer, what the host's q core computes,
 on the Cortex-M3 and on the Cortex-M0+ (ARMv6-M, no long multiply or divide instructions)."""
 

@@ -387,11 +387,11 @@ def firmware_elf(preset: str, image: str = "stickslip_fw.elf") -> Path:
     for root in roots:
         if root is None:
             continue
-        elf = Path(root) / "build" / preset / "port" / "cortex_m" / image
+        elf = Path(root) / "build" / preset / "fw" / image
         if elf.is_file():
             return elf
     raise FileNotFoundError(
-        f"build/{preset}/port/cortex_m/{image} not found (run from the checkout, or set "
+        f"build/{preset}/fw/{image} not found (run from the checkout, or set "
         f"STICKSLIP_FIRMWARE_ROOT): build it with cmake --preset {preset} && "
         f"cmake --build --preset {preset}"
     )

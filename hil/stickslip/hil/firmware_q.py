@@ -1,4 +1,4 @@
-"""The fixed-point firmware (port/cortex_m/main_q_cortex_m.c) in QEMU: it plays the paper's drive
+"""The fixed-point firmware (fw/main_q_cortex_m.c) in QEMU: it plays the paper's drive
 on the q core and sends the staircase over its emulated UART; compared here, integer for integer,
 with the host's q core."""
 
@@ -22,7 +22,7 @@ PRESETS = ("cortex-m0plus", "cortex-m3", "cortex-m4f")
 
 
 def q_firmware_elf(preset: str) -> Path:
-    """build/<preset>/port/cortex_m/stickslip_q_fw.elf (see client.firmware_elf)."""
+    """build/<preset>/fw/stickslip_q_fw.elf (see client.firmware_elf)."""
     return firmware_elf(preset, "stickslip_q_fw.elf")
 
 

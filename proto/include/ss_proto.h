@@ -65,6 +65,14 @@ int32_t ss_cobs_decode(const uint8_t *src, size_t n, uint8_t *dst, size_t cap);
 size_t ss_proto_build(uint8_t type, uint8_t seq, const uint8_t *payload, size_t len, uint8_t *wire,
                       size_t cap);
 
+/* Longest reason an ERROR frame built by ss_proto_build_error carries (longer ones are cut). */
+#define SS_PROTO_MAX_REASON 96u
+
+/* Build an ERROR frame (ref_seq, code, ref_type, ASCII reason without its NUL) with the sender's
+ * counter seq into wire; returns its size, 0 if it does not fit. */
+size_t ss_proto_build_error(uint8_t seq, uint8_t ref_seq, ss_proto_error_t code, uint8_t ref_type,
+                            const char *reason, uint8_t *wire, size_t cap);
+
 /* A decoded, checked packet. */
 typedef struct {
     uint8_t type;

@@ -1,4 +1,4 @@
-#include "ss_port_slcan.h"
+#include "ss_slcan_port.h"
 
 static void reply(ss_slcan_port_t *p, const char *s)
 {

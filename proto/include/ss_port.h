@@ -1,6 +1,7 @@
-/* The platform layer: a byte link and a clock. The node application (app/) knows nothing else of
- * the platform; a port (port/posix, port/cortex_m) fills this struct. Callbacks and a context
- * pointer, as littlefs's block device: no globals in the application. */
+/* The driver interface a port implements (as CANopenNode's CO_driver.h): a byte link, a CAN link
+ * and a clock. The protocol (proto/) and the node application (app/) know nothing else of the
+ * platform; a port (port/posix, port/cortex_m) fills these structs and knows no frame layout.
+ * Callbacks and a context pointer, as littlefs's block device: no globals in the application. */
 #ifndef SS_PORT_H
 #define SS_PORT_H
 
@@ -20,7 +21,7 @@ typedef struct {
     uint64_t (*time_us)(void *ctx);
 } ss_port_link_t;
 
-/* A CAN link: SocketCAN, a CAN controller, or SLCAN over a byte link (ss_port_slcan.h). */
+/* A CAN link: SocketCAN, a CAN controller, or SLCAN over a byte link (ss_slcan_port.h). */
 typedef struct {
     void *ctx;
     /* Non-blocking: 1 with *frame filled, 0 if none, -1 when the peer is gone. */

@@ -1,6 +1,6 @@
 /* Firmware: the stage-model node (app/ss_node.c, the same application as the host's
- * stickslip_node) on the Cortex-M port; built with SS_NODE_MODEL_Q it is stickslip_fw_q.elf, the
- * fixed-point node (as stickslip_node_q). */
+ * stickslip_node) on the Cortex-M port (port/cortex_m); linked with stickslip_app_q
+ * (SS_NODE_MODEL_Q) it is stickslip_fw_q.elf, the fixed-point node (as stickslip_node_q). */
 #include "ss_node.h"
 #include "ss_port_cortex_m.h"
 

@@ -103,6 +103,20 @@ size_t ss_proto_build(uint8_t type, uint8_t seq, const uint8_t *payload, size_t 
     return n + 1u;
 }
 
+size_t ss_proto_build_error(uint8_t seq, uint8_t ref_seq, ss_proto_error_t code, uint8_t ref_type,
+                            const char *reason, uint8_t *wire, size_t cap)
+{
+    uint8_t p[3u + SS_PROTO_MAX_REASON];
+    size_t len = 0;
+    p[len++] = ref_seq;
+    p[len++] = (uint8_t)code;
+    p[len++] = ref_type;
+    for (const char *c = reason; c != 0 && *c != '\0' && len < sizeof p; ++c) {
+        p[len++] = (uint8_t)*c;
+    }
+    return ss_proto_build((uint8_t)SS_MSG_ERROR, seq, p, len, wire, cap);
+}
+
 void ss_proto_rx_init(ss_proto_rx_t *rx)
 {
     rx->n = 0;
