@@ -9,7 +9,8 @@ out=build/fuzz
 mkdir -p "$out/corpus" "$out/crashes"
 CC=${CC:-clang-14}
 $CC -std=c99 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -D_DEFAULT_SOURCE \
-  -Ilib/include -Iproto/include -Iapp bench/fuzz/fuzz_parsers.c app/ss_node.c proto/src/*.c lib/src/*.c -lm \
+  -Ilib/include -Iproto/include -Iapp bench/fuzz/fuzz_parsers.c app/ss_node_core.c app/ss_node_serial.c \
+  app/ss_node_can.c app/ss_node_model_f32.c proto/src/*.c lib/src/*.c -lm \
   -o "$out/fuzz_parsers"
 # seeds: every frame of the shared vectors, and SLCAN lines
 i=0

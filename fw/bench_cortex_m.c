@@ -25,7 +25,8 @@ int main(void)
     for (int m = 0; m < 2; ++m) {
         ss_actuator_config_f32_t cfg = ss_actuator_config_table1_f32();
         cfg.friction_model = m;
-        ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, 1000u);
+        ss_waveform_config_f32_t w = ss_waveform_paper_f32();
+        w.cycles = 1000u;
         ss_waveform_state_f32_t ws;
         static ss_actuator_state_f32_t st;
         (void)ss_waveform_init_f32(&w, cfg.dt_s, &ws);

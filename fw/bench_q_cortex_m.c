@@ -10,7 +10,6 @@
 #include "ss_port_cortex_m.h"
 
 #define BENCH_STEPS 20000u
-#define BENCH_RISE_Q32 4080218880u /* the float32 0.95f the host converts, as main_q_cortex_m.c */
 
 static void print(const ss_port_link_t *link, const char *line, size_t n)
 {
@@ -24,8 +23,8 @@ int main(void)
     for (int32_t m = 0; m < 2; ++m) {
         ss_actuator_config_q_t cfg = ss_actuator_config_table1_q();
         cfg.friction_model = m;
-        const ss_waveform_config_q_t w =
-            ss_waveform_sawtooth_q(500000u, 100 * 65536, 0, BENCH_RISE_Q32, 1, 1000u);
+        ss_waveform_config_q_t w = ss_waveform_paper_q();
+        w.cycles = 1000u;
         ss_waveform_state_q_t ws;
         static ss_actuator_state_q_t st;
         int ok = ss_waveform_init_q(&w, cfg.dt_q40, &ws) == SS_OK;

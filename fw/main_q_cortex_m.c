@@ -11,14 +11,9 @@
 #include "ss_port_cortex_m.h"
 
 #define Q_FW_CYCLES 6u
-#define Q_FW_STEPS_PER_CYCLE 2000u /* 500 Hz at dt = 1 us */
+#define Q_FW_STEPS_PER_CYCLE 2000u /* the paper's 500 Hz at dt = 1 us */
 #define Q_FW_EVERY 100u            /* a line every 100 steps: 20 per cycle, 121 lines in all */
 #define Q_FW_LINE 192u             /* longest line (the header) with room to spare */
-#define Q_FW_FREQUENCY_MHZ 500000u
-#define Q_FW_AMPLITUDE_Q16 (100 * 65536) /* 100 V */
-/* The host converts the float32 0.95f, which is 15938355 x 2^-24: times 2^32 this is exact. Using
- * round(0.95 x 2^32) instead would move the fall edge and break bit-exactness with the host. */
-#define Q_FW_RISE_Q32 4080218880u
 
 static void send(const ss_port_link_t *link, const char *line, size_t len)
 {
@@ -49,8 +44,8 @@ int main(void)
 {
     const ss_port_link_t *link = ss_cortex_m_init();
     const ss_actuator_config_q_t cfg = ss_actuator_config_table1_q();
-    const ss_waveform_config_q_t w =
-        ss_waveform_sawtooth_q(Q_FW_FREQUENCY_MHZ, Q_FW_AMPLITUDE_Q16, 0, Q_FW_RISE_Q32, 1, Q_FW_CYCLES);
+    ss_waveform_config_q_t w = ss_waveform_paper_q(); /* the paper's drive, in integer constants */
+    w.cycles = Q_FW_CYCLES;
     const uint32_t n_steps = Q_FW_CYCLES * Q_FW_STEPS_PER_CYCLE;
     ss_waveform_state_q_t ws;
     static ss_actuator_state_q_t st; /* 328 bytes: in .bss, not on the stack */

@@ -12,17 +12,17 @@
 typedef struct {
     const char *name;
     const char *what;
-    float frequency_hz, amplitude_v, rise_fraction;
-    int direction;
-    unsigned cycles;
+    float rise_fraction; /* 0: the paper's */
+    int direction;       /* 0: the paper's */
 } scenario_t;
 
-/* 500 Hz, 100 V x 44 nm/V = the paper's 4.4 um; fall times of the trend check. */
+/* The paper's drive (ss_waveform_paper_f32: 500 Hz, 100 V x 44 nm/V = 4.4 um, 20 cycles) and
+ * variants of it; fall times of the issue's trend check. */
 static const scenario_t SCENARIOS[] = {
-    {"paper", "LS paper Fig. 13: 4.4 um, 500 Hz, 100 us fall, forward", 500.0f, 100.0f, 0.95f, 1, 20},
-    {"paper-reverse", "as paper, driven backwards", 500.0f, 100.0f, 0.95f, -1, 20},
-    {"fall-20us", "as paper with a 20 us fall", 500.0f, 100.0f, 0.99f, 1, 20},
-    {"fall-200us", "as paper with a 200 us fall", 500.0f, 100.0f, 0.90f, 1, 20},
+    {"paper", "LS paper Fig. 13: 4.4 um, 500 Hz, 100 us fall, forward", 0.0f, 0},
+    {"paper-reverse", "as paper, driven backwards", 0.0f, -1},
+    {"fall-20us", "as paper with a 20 us fall", 0.99f, 0},
+    {"fall-200us", "as paper with a 200 us fall", 0.90f, 0},
 };
 #define N_SCENARIOS (sizeof SCENARIOS / sizeof SCENARIOS[0])
 #define CHUNK_ROWS 4096u
@@ -169,20 +169,22 @@ int main(int argc, char **argv)
     if (optind < argc) {
         return fail("unexpected argument", "command line", argv[optind]);
     }
+    const ss_waveform_config_f32_t paper = ss_waveform_paper_f32();
     if (dir == 0) {
-        dir = sc->direction;
+        dir = (sc->direction != 0) ? sc->direction : paper.direction;
     }
     if (f < 0) {
-        f = (double)sc->frequency_hz;
+        f = (double)paper.frequency_hz;
     }
     if (isnan(a)) {
-        a = (double)sc->amplitude_v;
+        a = (double)paper.amplitude_v;
     }
     if (cycles < 0) {
-        cycles = (long)sc->cycles;
+        cycles = (long)paper.cycles;
     }
     if (r < 0) {
-        r = (fall >= 0) ? 1.0 - fall * f : (double)sc->rise_fraction;
+        r = (fall >= 0) ? 1.0 - fall * f
+                        : (double)((sc->rise_fraction > 0.0f) ? sc->rise_fraction : paper.rise_fraction);
     }
     if (hold < 0 || hold > 3600) {
         fprintf(stderr, "stickslip_sim: --hold-s: must be in [0, 3600] s, got %g\n", hold);

@@ -7,7 +7,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "ss_node.h"
+#include "ss_node_can.h"
+#include "ss_node_serial.h"
 #include "ss_port_posix.h"
 #include "ss_proto.h"
 #include "ss_slcan_port.h"
@@ -50,7 +51,8 @@ int main(int argc, char **argv)
     static ss_posix_link_t link; /* large buffers: not on the stack */
     static ss_slcan_port_t slcan;
     static ss_socketcan_t socketcan;
-    static ss_node_t node;
+    static ss_node_serial_t node;  /* a serial node, or */
+    static ss_node_can_t can_node; /* a CAN node, without the serial buffers */
     const ss_port_can_t *can = NULL;
     /* what a second TCP client hears before it is closed: ERROR busy (in the serial framing, on the
      * SLCAN link too, as before the port stopped building it) */
@@ -118,25 +120,26 @@ int main(int argc, char **argv)
     if (can == &slcan.can) {
         ss_slcan_port_init(&slcan, &link.link);
     }
+    const ss_node_core_t *core = (can != NULL) ? &can_node.core : &node.core;
     if (can != NULL) {
-        ss_node_init_can(&node, can);
+        ss_node_can_init(&can_node, can);
     } else {
-        ss_node_init(&node, &link.link);
+        ss_node_serial_init(&node, &link.link);
     }
     while (!stop_requested) {
         if (can != NULL) {
-            (void)ss_node_poll_can(&node);
+            (void)ss_node_can_poll(&can_node);
         } else {
-            (void)ss_node_poll(&node);
+            (void)ss_node_serial_poll(&node);
         }
         if (can == &socketcan.can) {
-            if (!node.running) {
+            if (!core->running) {
                 struct timespec ts = {0, 200000};
                 nanosleep(&ts, NULL);
             }
-        } else if (!node.running) {
+        } else if (!core->running) {
             ss_posix_wait(&link, 20);
-        } else if (node.paced) {
+        } else if (core->paced) {
             ss_posix_wait(&link, 0);
         }
     }

@@ -17,7 +17,7 @@ declare -A may=(
 declare -A home
 while read -r h; do
   home[$(basename "$h")]=${h%%/*}
-done < <(git ls-files 'lib/*.h' 'proto/*.h' 'app/*.h' 'port/*.h' 'host_sim/*.h' 'fw/*.h')
+done < <(git ls-files 'lib/*.h' 'proto/*.h' 'app/*.h' 'app/*.def' 'port/*.h' 'host_sim/*.h' 'fw/*.h')
 bad=0
 for mod in "${!may[@]}"; do
   while read -r f; do
@@ -31,7 +31,7 @@ for mod in "${!may[@]}"; do
         bad=1
       fi
     done < <(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$f")
-  done < <(git ls-files "$mod/*.c" "$mod/*.h")
+  done < <(git ls-files "$mod/*.c" "$mod/*.h" "$mod/*.def")
 done
 [ "$bad" -eq 0 ] && echo "check_layers: every include runs down the layers"
 exit "$bad"

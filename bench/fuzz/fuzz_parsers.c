@@ -8,7 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ss_node.h"
+#include "ss_node_can.h"
+#include "ss_node_serial.h"
 #include "ss_slcan_port.h"
 
 typedef struct {
@@ -41,10 +42,10 @@ static uint64_t f_time(void *ctx)
     return f->now += 7u; /* a clock that moves, for paced runs */
 }
 
-static void check_model(const ss_node_t *node)
+static void check_model(const ss_node_core_t *core)
 {
-    if (!isfinite(node->st.x_rod_m) || !isfinite(node->st.force_n) ||
-        !isfinite(ss_position_value_f32(node->st.x_slider)) || node->st.fr.ls.depth > SS_LS_MEMORY_DEPTH) {
+    if (!isfinite(core->st.x_rod_m) || !isfinite(core->st.force_n) ||
+        !isfinite(ss_position_value_f32(core->st.x_slider)) || core->st.fr.ls.depth > SS_LS_MEMORY_DEPTH) {
         abort();
     }
 }
@@ -67,24 +68,24 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
     }
 
-    static ss_node_t node;
+    static ss_node_serial_t node;
     feed_t f = {data, size, 0, 0};
     const ss_port_link_t link = {&f, f_read, f_write, f_time};
-    ss_node_init(&node, &link);
-    for (int i = 0; i < 200 && (f.at < f.n || node.running); ++i) {
-        (void)ss_node_poll(&node);
-        check_model(&node);
+    ss_node_serial_init(&node, &link);
+    for (int i = 0; i < 200 && (f.at < f.n || node.core.running); ++i) {
+        (void)ss_node_serial_poll(&node);
+        check_model(&node.core);
     }
 
     static ss_slcan_port_t slcan;
-    static ss_node_t can_node;
+    static ss_node_can_t can_node;
     feed_t g = {data, size, 0, 0};
     const ss_port_link_t link2 = {&g, f_read, f_write, f_time};
     ss_slcan_port_init(&slcan, &link2);
-    ss_node_init_can(&can_node, &slcan.can);
-    for (int i = 0; i < 200 && (g.at < g.n || can_node.running); ++i) {
-        (void)ss_node_poll_can(&can_node);
-        check_model(&can_node);
+    ss_node_can_init(&can_node, &slcan.can);
+    for (int i = 0; i < 200 && (g.at < g.n || can_node.core.running); ++i) {
+        (void)ss_node_can_poll(&can_node);
+        check_model(&can_node.core);
     }
     return 0;
 }

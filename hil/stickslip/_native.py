@@ -1,10 +1,11 @@
 """The one thin binding to the C library (libstickslip): ctypes mirrors of the public structs,
-checked against the library's own sizes at load time. Nothing else in the package touches
-pointers."""
+checked against the library's own sizes at load time, and the calls into it. The only module of
+the package that imports ctypes: the rest calls the functions below and never touches pointers."""
 
 from __future__ import annotations
 
 import ctypes as C
+import math
 import os
 from pathlib import Path
 
@@ -19,6 +20,8 @@ SS_FRICTION_LUGRE = 1
 SS_FRICTION_GMS = 2  # float family only: the q converter refuses it
 SS_WAVE_SAWTOOTH = 0
 SS_WAVE_SAMPLED = 1
+# the friction laws by the names users give (docs/model.md)
+FRICTION_KINDS = {"ls": SS_FRICTION_LS, "lugre": SS_FRICTION_LUGRE, "gms": SS_FRICTION_GMS}
 
 
 class FrictionConfig(C.Structure):
@@ -30,6 +33,23 @@ class FrictionConfig(C.Structure):
         ("sigma1_ns_per_m", C.c_float),
         ("sigma2_ns_per_m", C.c_float),
         ("asymmetry", C.c_float),
+    ]
+
+
+class FrictionMu(C.Structure):
+    """ss_friction_mu_f32_t: the friction as the dataset names it (coefficients, clamping force)."""
+
+    _fields_ = [
+        (name, C.c_float)
+        for name in (
+            "mu_s",
+            "mu_d",
+            "normal_force_n",
+            "vs_m_per_s",
+            "sigma0_n_per_m",
+            "sigma1_ns_per_m",
+            "sigma2_ns_per_m",
+        )
     ]
 
 
@@ -162,19 +182,21 @@ class ActuatorTraceQ(C.Structure):
     ]
 
 
-# column -> (numpy dtype, SI scale); state_a/state_b scales depend on the friction model
+# column -> numpy dtype; the SI scale of each is q_scale(column), of state_a/state_b
+# q_scale(TRACE_Q_STATES[model][0 or 1])
 TRACE_Q_COLUMNS = {
-    "step": (np.uint32, 1.0),
-    "drive_q16": (np.int32, 2.0**-16),
-    "x_p_q40": (np.int32, 2.0**-40),
-    "x_rod_q40": (np.int32, 2.0**-40),
-    "x_slider_q40": (np.int64, 2.0**-40),
-    "v_rod_q28": (np.int32, 2.0**-28),
-    "v_slider_q28": (np.int32, 2.0**-28),
-    "force_q24": (np.int32, 2.0**-24),
-    "state_a": (np.int32, None),
-    "state_b": (np.int32, None),
+    "step": np.uint32,
+    "drive_q16": np.int32,
+    "x_p_q40": np.int32,
+    "x_rod_q40": np.int32,
+    "x_slider_q40": np.int64,
+    "v_rod_q28": np.int32,
+    "v_slider_q28": np.int32,
+    "force_q24": np.int32,
+    "state_a": np.int32,
+    "state_b": np.int32,
 }
+TRACE_Q_STATES = {"ls": ("ls.level_q24", "ls.fm_q24"), "lugre": ("lugre.z_q40", "lugre.zdot_q28")}
 
 # ids of ss_abi.h
 _ABI = {
@@ -183,6 +205,7 @@ _ABI = {
     WaveformConfig: 3,
     ActuatorTrace: 7,
     EffectsConfig: 20,
+    FrictionMu: 22,
     FrictionConfigQ: 8,
     ActuatorConfigQ: 9,
     WaveformConfigQ: 11,
@@ -226,8 +249,11 @@ def _proto(name: str, restype, *argtypes) -> None:
 _P = C.c_void_p
 _proto("ss_status_str", C.c_char_p, C.c_int)
 _proto("ss_abi_sizeof", C.c_uint32, C.c_int32)
+_proto("ss_abi_qformat", C.c_int32, C.c_uint32, C.POINTER(C.c_char_p))
 _proto("ss_actuator_config_table1_f32", ActuatorConfig)
 _proto("ss_friction_config_table1_f32", FrictionConfig)
+_proto("ss_friction_mu_table1_f32", FrictionMu)
+_proto("ss_waveform_paper_f32", WaveformConfig)
 _proto("ss_friction_config_from_mu_f32", FrictionConfig, *([C.c_float] * 7))
 _proto("ss_stribeck_f32", C.c_float, C.POINTER(FrictionConfig), C.c_float)
 _proto("ss_friction_config_check_f32", C.c_int, C.POINTER(FrictionConfig), C.POINTER(C.c_char_p))
@@ -413,3 +439,155 @@ def trace_q_for(columns: dict[str, np.ndarray], capacity: int) -> ActuatorTraceQ
     for name, arr in columns.items():
         setattr(tr, name, arr.ctypes.data_as(pointer_types[name]))  # type: ignore[type-var]
     return tr
+
+
+# --- the Q formats of the q family's signals (ss_qformat.h, read through ss_abi_qformat)
+
+
+def _qformats() -> dict[str, int]:
+    out: dict[str, int] = {}
+    name = C.c_char_p()
+    i = 0
+    while (shift := lib.ss_abi_qformat(i, C.byref(name))) >= 0:
+        out[(name.value or b"").decode()] = shift
+        i += 1
+    return out
+
+
+Q_SHIFTS = _qformats()
+
+
+def q_scale(signal: str) -> float:
+    """SI units per LSB of a q-family signal named as its C field (e.g. "x_slider_q40": 2^-40 m)."""
+    return math.ldexp(1.0, -Q_SHIFTS[signal])
+
+
+# --- the single sources of Table I and the paper's drive
+
+
+def table1_actuator() -> ActuatorConfig:
+    """ss_actuator_config_table1_f32(): Table I of the LS paper, dt 1 us, LS friction."""
+    return lib.ss_actuator_config_table1_f32()
+
+
+def table1_friction_mu() -> FrictionMu:
+    """ss_friction_mu_table1_f32(): Table I's friction as coefficients and clamping force."""
+    return lib.ss_friction_mu_table1_f32()
+
+
+def table1_friction() -> FrictionConfig:
+    return lib.ss_friction_config_table1_f32()
+
+
+def paper_sawtooth() -> WaveformConfig:
+    """ss_waveform_paper_f32(): the LS paper's drive (Fig. 13)."""
+    return lib.ss_waveform_paper_f32()
+
+
+# --- the calls the model makes
+
+
+def friction_config_from_mu(
+    mu_s: float,
+    mu_d: float,
+    normal_force_n: float,
+    vs_m_per_s: float,
+    sigma0_n_per_m: float,
+    sigma1_ns_per_m: float,
+    sigma2_ns_per_m: float,
+) -> FrictionConfig:
+    """Fs = mu_s N and Fc = mu_d N, formed in float by the C library as firmware forms them."""
+    return lib.ss_friction_config_from_mu_f32(
+        mu_s, mu_d, normal_force_n, vs_m_per_s, sigma0_n_per_m, sigma1_ns_per_m, sigma2_ns_per_m
+    )
+
+
+def sampled_waveform(samples: np.ndarray, interval_s: float) -> WaveformConfig:
+    """A sampled drive over samples (float32, C-contiguous), which the caller keeps alive for as
+    long as the config is used."""
+    w = WaveformConfig()
+    w.kind = SS_WAVE_SAMPLED
+    w.samples_v = float_ptr(samples)
+    w.n_samples = len(samples)
+    w.sample_interval_s = interval_s
+    return w
+
+
+def check_waveform(wave: WaveformConfig, dt_s: float) -> None:
+    """NativeError unless the library accepts the waveform at step dt_s."""
+    check(lib.ss_waveform_init_f32(C.byref(wave), dt_s, new_waveform_state()), "waveform")
+
+
+def drive_samples(wave: WaveformConfig, dt_s: float, n_steps: int) -> np.ndarray:
+    """The drive at t = 0 and after each of n_steps steps, float32, from the waveform player."""
+    wst = new_waveform_state()
+    check(lib.ss_waveform_init_f32(C.byref(wave), dt_s, wst), "waveform")
+    out = np.zeros(n_steps + 1, np.float32)
+    out[0] = lib.ss_waveform_value_f32(C.byref(wave), wst)
+    check(lib.ss_waveform_fill_f32(C.byref(wave), wst, float_ptr(out[1:]), n_steps), "waveform")
+    return out
+
+
+def run_f32(
+    cfg: ActuatorConfig, wave: WaveformConfig, n_steps: int, decimation: int, x0_m: float = 0.0
+) -> dict[str, np.ndarray]:
+    """The float core from rest (slider at x0_m) over n_steps; every decimation-th step recorded,
+    the initial state first. Columns as TRACE_COLUMNS (float32, step uint32)."""
+    rows = n_steps // decimation
+    cols = {name: np.zeros(rows + 1, np.float32) for name in TRACE_COLUMNS if name != "step"}
+    cols["step"] = np.zeros(rows + 1, np.uint32)
+    st = new_actuator_state()
+    wst = new_waveform_state()
+    check(lib.ss_waveform_init_f32(C.byref(wave), cfg.dt_s, wst), "waveform")
+    v0 = lib.ss_waveform_value_f32(C.byref(wave), wst)
+    check(lib.ss_actuator_init_f32(C.byref(cfg), st, v0), "actuator parameters")
+    if x0_m != 0.0:
+        lib.ss_actuator_place_slider_f32(st, x0_m)
+    first = trace_for(cols, rows + 1)
+    lib.ss_actuator_record_f32(C.byref(cfg), st, C.byref(first), 0)
+    # the run writes from row 1 on: point a second trace one row in
+    tr = trace_for({k: v[1:] for k, v in cols.items()}, rows)
+    written = C.c_uint32(0)
+    status = lib.ss_actuator_run_f32(
+        C.byref(cfg), st, C.byref(wave), wst, n_steps, decimation, C.byref(tr), C.byref(written)
+    )
+    check(status, f"run stopped after {written.value * decimation} steps")
+    return cols
+
+
+def run_q(
+    cfg: ActuatorConfig, wave: WaveformConfig, n_steps: int, decimation: int
+) -> dict[str, np.ndarray]:
+    """The fixed-point core on the configs the library's converter makes of cfg and wave, as
+    run_f32; columns as TRACE_Q_COLUMNS, the integers of the q family (scales: q_scale)."""
+    cq, wq = to_q(cfg, wave)
+    rows = n_steps // decimation
+    cols = {k: np.zeros(rows + 1, dt) for k, dt in TRACE_Q_COLUMNS.items()}
+    st, wst = new_actuator_state_q(), new_waveform_state_q()
+    check(lib.ss_waveform_init_q(C.byref(wq), cq.dt_q40, wst), "q waveform")
+    v0 = lib.ss_waveform_value_q(C.byref(wq), wst)
+    check(lib.ss_actuator_init_q(C.byref(cq), st, v0), "q actuator parameters")
+    lib.ss_actuator_record_q(C.byref(cq), st, C.byref(trace_q_for(cols, rows + 1)), 0)
+    tr = trace_q_for({k: v[1:] for k, v in cols.items()}, rows)
+    written = C.c_uint32(0)
+    status = lib.ss_actuator_run_q(
+        C.byref(cq), st, C.byref(wq), wst, n_steps, decimation, C.byref(tr), C.byref(written)
+    )
+    check(status, f"q run stopped after {written.value * decimation} steps")
+    return cols
+
+
+def friction_run(model: str, fcfg: FrictionConfig, dx: np.ndarray, dt_s: float) -> np.ndarray:
+    """Friction force (N, float32) of law `model` from the virgin state under increments dx
+    (float32, C-contiguous), each taken in dt_s."""
+    st = new_friction_state(FRICTION_KINDS[model])
+    init, run = getattr(lib, f"ss_{model}_init_f32"), getattr(lib, f"ss_{model}_run_f32")
+    check(init(C.byref(fcfg), st), "friction parameters")
+    out = np.zeros_like(dx)
+    check(run(C.byref(fcfg), st, float_ptr(dx), len(dx), dt_s, float_ptr(out)), "friction run")
+    return out
+
+
+def stribeck(fcfg: FrictionConfig, v_m_per_s: np.ndarray) -> np.ndarray:
+    """The Stribeck curve g(v) of the library (N) at each velocity."""
+    return np.array([lib.ss_stribeck_f32(C.byref(fcfg), float(v)) for v in np.ravel(v_m_per_s)])

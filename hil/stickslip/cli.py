@@ -8,13 +8,16 @@ import json
 import math
 import os
 import sys
-import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .model import MODELS, VARIANTS, Sawtooth, simulate
+from .model import DT_S, MODELS, VARIANTS, Sawtooth, simulate
+from .progress import Progress
+
+if TYPE_CHECKING:
+    from .hil.node import NodeSession
 
 # nodes `hil run` can start: the host node (-q: fixed point) and the firmware images in QEMU
 # (hil.client.QEMU_TARGETS; listed here so that --help does not import pyserial)
@@ -35,8 +38,38 @@ class CliError(Exception):
     """A user error: printed as one line, exit status 2."""
 
 
-def _progress(i: int, n: int, what: str) -> None:
-    print(f"[{i + 1}/{n}] {what}", file=sys.stderr, flush=True)
+def _add_json_option(p: argparse.ArgumentParser, what: str) -> None:
+    """--json [FILE], the same on every subcommand: the result as JSON to FILE (the summary still
+    printed), or to stdout in place of the summary when FILE is '-' or omitted."""
+    p.add_argument(
+        "--json",
+        nargs="?",
+        const="-",
+        metavar="FILE",
+        help=f"write {what} as JSON to FILE; to stdout instead of the summary when FILE is '-' "
+        "or omitted",
+    )
+
+
+def _add_quiet_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--quiet",
+        action="store_true",
+        help="no progress display (it is shown only when stderr is a terminal)",
+    )
+
+
+def _report(a: argparse.Namespace, result: dict, summary: str) -> None:
+    """Print the summary, or the JSON result in its place (--json, --json -); with --json FILE
+    write the JSON there as well."""
+    if a.json == "-":
+        print(json.dumps(result, indent=2))
+        return
+    if a.json:
+        path = Path(a.json)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(result, indent=2) + "\n")
+    print(summary)
 
 
 def _finite(name: str):
@@ -83,7 +116,9 @@ def _waveform(a: argparse.Namespace) -> Sawtooth:
         raise CliError(f"--cycles: must be >= 0, got {a.cycles}")
     if a.frequency_hz <= 0:
         raise CliError(f"--frequency-hz: must be > 0, got {a.frequency_hz}")
-    w = Sawtooth(a.frequency_hz, a.amplitude_v, a.offset_v, 0.95, a.direction, a.cycles)
+    w = Sawtooth(
+        a.frequency_hz, a.amplitude_v, a.offset_v, Sawtooth().rise_fraction, a.direction, a.cycles
+    )
     if a.fall_time_s is not None:
         w = w.with_fall_time(a.fall_time_s)
     elif a.rise_fraction is not None:
@@ -110,15 +145,14 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     s = r.summary()
     if a.out:
         s["csv"] = str(a.out)
-    if a.json:
-        print(json.dumps(s, indent=2))
-    else:
-        print(
-            f"{a.model} ({a.variant}): {w.cycles} cycles at {w.frequency_hz:g} Hz, "
-            f"fall {w.fall_time_s * 1e6:.1f} us: "
-            f"mean step {s['mean_step_per_cycle_m'] * 1e6:.4f} um per cycle"
-            + (f"; wrote {a.out}" if a.out else "")
-        )
+    _report(
+        a,
+        s,
+        f"{a.model} ({a.variant}): {w.cycles} cycles at {w.frequency_hz:g} Hz, "
+        f"fall {w.fall_time_s * 1e6:.1f} us: "
+        f"mean step {s['mean_step_per_cycle_m'] * 1e6:.4f} um per cycle"
+        + (f"; wrote {a.out}" if a.out else ""),
+    )
     return 0
 
 
@@ -133,47 +167,55 @@ def _simulate_dataset(a: argparse.Namespace) -> int:
     if out_dir:
         out_dir.mkdir(parents=True, exist_ok=True)
     rows = []
-    for i, run in enumerate(ds.runs):
-        if len(ds.runs) > 3:
-            _progress(i, len(ds.runs), run.id)
-        hold = max(0.0, float(run.t_s[-1]) - (run.waveform.duration_s if run.waveform else 0.0))
-        if run.waveform is not None:
-            r = simulate(run.waveform, ds.actuator, a.model, a.dt_s, hold_s=hold)
-        else:
-            r = simulate(
-                None, ds.actuator, a.model, a.dt_s, drive_v=run.drive_v, drive_interval_s=run.dt_s
-            )
-        sim = np.interp(run.t_s - run.t_s[0], r.t_s, r.x_slider_m)
-        meas = run.x_m - run.x_m[0]
-        row: dict[str, Any] = {"run": run.id, "rmse_m": float(np.sqrt(np.mean((meas - sim) ** 2)))}
-        if run.waveform is not None:
-            k = np.arange(run.waveform.cycles + 1) * run.waveform.period_s
-            row["measured_mean_step_m"] = float(
-                np.mean(np.diff(np.interp(k, run.t_s - run.t_s[0], meas)))
-            )
-            row["simulated_mean_step_m"] = r.mean_step_m
-        rows.append(row)
-        if out_dir:
-            r.to_csv(out_dir / f"{run.id}.csv")
-    if a.json:
-        print(json.dumps({"dataset": str(ds.path), "model": a.model, "runs": rows}, indent=2))
-    else:
-        for row in rows:
-            extra = ""
-            if "measured_mean_step_m" in row:
-                extra = (
-                    f", step measured {row['measured_mean_step_m'] * 1e6:.4f} um, "
-                    f"simulated {row['simulated_mean_step_m'] * 1e6:.4f} um"
+    with Progress("simulating", total=len(ds.runs), unit="run", quiet=a.quiet) as bar:
+        for i, run in enumerate(ds.runs):
+            bar.to(i, run.id)
+            hold = max(0.0, float(run.t_s[-1]) - (run.waveform.duration_s if run.waveform else 0.0))
+            if run.waveform is not None:
+                r = simulate(run.waveform, ds.actuator, a.model, a.dt_s, hold_s=hold)
+            else:
+                r = simulate(
+                    None,
+                    ds.actuator,
+                    a.model,
+                    a.dt_s,
+                    drive_v=run.drive_v,
+                    drive_interval_s=run.dt_s,
                 )
-            print(f"{row['run']}: rmse {row['rmse_m'] * 1e9:.1f} nm{extra}")
+            sim = np.interp(run.t_s - run.t_s[0], r.t_s, r.x_slider_m)
+            meas = run.x_m - run.x_m[0]
+            row: dict[str, Any] = {
+                "run": run.id,
+                "rmse_m": float(np.sqrt(np.mean((meas - sim) ** 2))),
+            }
+            if run.waveform is not None:
+                k = np.arange(run.waveform.cycles + 1) * run.waveform.period_s
+                row["measured_mean_step_m"] = float(
+                    np.mean(np.diff(np.interp(k, run.t_s - run.t_s[0], meas)))
+                )
+                row["simulated_mean_step_m"] = r.mean_step_m
+            rows.append(row)
+            if out_dir:
+                r.to_csv(out_dir / f"{run.id}.csv")
+    lines = []
+    for row in rows:
+        extra = ""
+        if "measured_mean_step_m" in row:
+            extra = (
+                f", step measured {row['measured_mean_step_m'] * 1e6:.4f} um, "
+                f"simulated {row['simulated_mean_step_m'] * 1e6:.4f} um"
+            )
+        lines.append(f"{row['run']}: rmse {row['rmse_m'] * 1e9:.1f} nm{extra}")
+    _report(a, {"dataset": str(ds.path), "model": a.model, "runs": rows}, "\n".join(lines))
     return 0
 
 
 def cmd_figures(a: argparse.Namespace) -> int:
-    from .figures import make_all
+    from .figures import FIGURES, make_all
 
-    claims = make_all(a.out, progress=_progress)
-    print(f"wrote {len(claims)} figures and figures.json to {a.out}")
+    with Progress("figures", total=len(FIGURES), unit="fig", quiet=a.quiet) as bar:
+        claims = make_all(a.out, progress=lambda i, n, name: bar.to(i, name))
+    _report(a, claims, f"wrote {len(claims)} figures and figures.json to {a.out}")
     return 0
 
 
@@ -212,22 +254,23 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
         if a.link == "can":
             from .hil.can_client import CanNodeClient
 
-            client: Any = CanNodeClient(url, interface=a.can_interface)
+            client: NodeSession = CanNodeClient(url, interface=a.can_interface)
         else:
             client = NodeClient(url)
         with client as c:
-            run = play(c, w, a.mode, a.decimation, a.paced)
+            steps = int(round(w.duration_s / c.info.dt_s))
+            with Progress(f"{a.mode} run", total=steps, unit="step", quiet=a.quiet) as bar:
+                run = play(c, w, a.mode, a.decimation, a.paced, progress=bar.to)
             s = summary(run, c)
             if a.out:
                 s["dataset"] = str(record(run, node_params(c), a.out))
-    if a.json:
-        print(json.dumps(s, indent=2))
-    else:
-        print(
-            f"{a.mode} over {url}: {run.steps} steps in {run.wall_s:.3f} s "
-            f"({run.steps_per_s:.0f} steps/s), mean step {s['mean_step_per_cycle_m'] * 1e6:.4f} um "
-            f"per cycle" + (f"; dataset in {a.out}" if a.out else "")
-        )
+    _report(
+        a,
+        s,
+        f"{a.mode} over {url}: {run.steps} steps in {run.wall_s:.3f} s "
+        f"({run.steps_per_s:.0f} steps/s), mean step {s['mean_step_per_cycle_m'] * 1e6:.4f} um "
+        f"per cycle" + (f"; dataset in {a.out}" if a.out else ""),
+    )
     return 0
 
 
@@ -243,40 +286,47 @@ def cmd_hil_position(a: argparse.Namespace) -> int:
         url = a.url or stack.enter_context(HostNode("tcp")).url
         with NodeClient(url) as c:
             r = position(c, a.target_m, a.tolerance_m, max_time_s=a.max_time_s)
-    s = r.summary()
-    if a.json:
-        print(json.dumps(s, indent=2))
-    else:
-        settle = (
-            "not settled"
-            if r.settle_time_s is None
-            else f"settled in {r.settle_time_s * 1e3:.1f} ms"
-        )
-        print(
-            f"target {a.target_m * 1e6:.3f} um: {r.coarse_periods} coarse periods, {settle} "
-            f"(model time), final error {r.final_error_m * 1e9:.2f} nm"
-        )
+    settle = (
+        "not settled" if r.settle_time_s is None else f"settled in {r.settle_time_s * 1e3:.1f} ms"
+    )
+    _report(
+        a,
+        r.summary(),
+        f"target {a.target_m * 1e6:.3f} um: {r.coarse_periods} coarse periods, {settle} "
+        f"(model time), final error {r.final_error_m * 1e9:.2f} nm",
+    )
     return 0 if r.settle_time_s is not None else 1
 
 
 def cmd_hil_firmware_q(a: argparse.Namespace) -> int:
+    from . import _native as N
     from .hil import firmware_q as FQ
 
     try:
         elf = FQ.q_firmware_elf(a.preset)
     except FileNotFoundError as e:
         raise CliError(str(e)) from None
-    run = FQ.run_q_firmware(elf)
+    with Progress(f"{elf.name} in QEMU", total=None, quiet=a.quiet):
+        run = FQ.run_q_firmware(elf)
     header, rows = FQ.host_reference()
     exact = all(run.header.get(k) == v for k, v in header.items()) and np.array_equal(
         run.rows, rows
     )
-    print(f"{elf}: {len(run.rows)} rows over the UART, {run.header['steps']} steps of 1 us")
+    lines = [f"{elf}: {len(run.rows)} rows over the UART, {run.header['steps']} steps of 1 us"]
     per_cycle = FQ.STEPS_PER_CYCLE // FQ.EVERY
-    for k, step in enumerate(run.steps_m, start=1):
-        x_um = run.rows[k * per_cycle, 1] * 2.0**-40 * 1e6
-        print(f"  cycle {k}: slider at {x_um:8.4f} um, step {step * 1e6:.4f} um")
-    print("bit-exact with the host's fixed-point core: " + ("yes" if exact else "NO"))
+    x_m = run.rows[per_cycle::per_cycle, 1] * N.q_scale("x_slider_q40")
+    for k, (x, step) in enumerate(zip(x_m, run.steps_m), start=1):
+        lines.append(f"  cycle {k}: slider at {x * 1e6:8.4f} um, step {step * 1e6:.4f} um")
+    lines.append("bit-exact with the host's fixed-point core: " + ("yes" if exact else "NO"))
+    result = {
+        "elf": str(elf),
+        "header": run.header,
+        "rows": len(run.rows),
+        "slider_at_cycle_end_m": [float(x) for x in x_m],
+        "steps_m": [float(v) for v in run.steps_m],
+        "bit_exact": bool(exact),
+    }
+    _report(a, result, "\n".join(lines))
     return 0 if exact else 1
 
 
@@ -288,30 +338,24 @@ def cmd_diagnose(a: argparse.Namespace) -> int:
 
     if a.workers < 1:
         raise CliError(f"--workers must be >= 1, got {a.workers}")
-    t0 = time.perf_counter()
-
-    def say(msg: str) -> None:
-        if not a.quiet:
-            print(f"[{time.perf_counter() - t0:5.1f} s] {msg}", file=sys.stderr, flush=True)
-
-    with ProcessPoolExecutor(max_workers=a.workers) as ex:
-        d = diagnose(a.dataset, executor=ex, progress=say)
-    say("writing the report")
-    report = write_report(d, a.out)
+    # a live status line: what the pipeline is doing now, and for how long
+    with Progress("diagnosing", total=None, quiet=a.quiet) as bar:
+        with ProcessPoolExecutor(max_workers=a.workers) as ex:
+            d = diagnose(a.dataset, executor=ex, progress=bar.status)
+        bar.status("writing the report")
+        report = write_report(d, a.out)
     j = d.to_json()
-    if a.json:
-        Path(a.json).parent.mkdir(parents=True, exist_ok=True)
-        Path(a.json).write_text(json.dumps(j, indent=2) + "\n")
     verdict = ", ".join(j["causes"]) + (
         " (unexplained residuals remain)" if j["unexplained"] else ""
     )
     rmse = {k: j[k]["validation_rmse_m"] * 1e9 for k in ("nominal", "baseline", "extended")}
-    print(
+    _report(
+        a,
+        j,
         f"causes: {verdict}; validation RMSE nominal {rmse['nominal']:.1f} nm,"
         f" calibrated {rmse['baseline']:.1f} nm, extended {rmse['extended']:.1f} nm"
-        f" (noise {d.noise_m * 1e9:.1f} nm); gain {j['gain']:.3f}"
+        f" (noise {d.noise_m * 1e9:.1f} nm); gain {j['gain']:.3f}\nreport: {report}",
     )
-    print(f"report: {report}")
     return 0
 
 
@@ -334,7 +378,10 @@ def build_parser() -> argparse.ArgumentParser:
         help="f32: the float core; q: the fixed-point core (docs/fixed-point.md)",
     )
     s.add_argument(
-        "--dt-s", type=_finite("--dt-s"), default=1e-6, help="integration step (default 1e-6)"
+        "--dt-s",
+        type=_finite("--dt-s"),
+        default=DT_S,
+        help=f"integration step (default {DT_S:g}, Table I's)",
     )
     s.add_argument(
         "--hold-s",
@@ -344,12 +391,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     s.add_argument("--decimation", type=int, default=1, help="keep every N-th step in the CSV")
     s.add_argument("--out", help="CSV file to write (with --dataset: a folder for one CSV per run)")
-    s.add_argument(
-        "--json", action="store_true", help="print a JSON summary (includes mean_step_per_cycle_m)"
-    )
+    _add_json_option(s, "the summary (includes mean_step_per_cycle_m)")
     s.add_argument(
         "--dataset", help="simulate every run of this dataset with its nominal parameters"
     )
+    _add_quiet_option(s)
     s.set_defaults(func=cmd_simulate)
     f = sub.add_parser(
         "figures",
@@ -357,6 +403,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Reproduce Figs. 3-9 and 13 of the LS paper from the C core.",
     )
     f.add_argument("--out", default="out/figures", help="folder for the PNGs and figures.json")
+    _add_json_option(f, "the figures' claims (as figures.json)")
+    _add_quiet_option(f)
     f.set_defaults(func=cmd_figures)
     dg = sub.add_parser(
         "diagnose",
@@ -367,14 +415,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     dg.add_argument("dataset", help="dataset folder (with dataset.json)")
     dg.add_argument("--out", default="out/diagnosis", help="folder for report.md and its plots")
-    dg.add_argument("--json", help="also write the diagnosis JSON here")
+    _add_json_option(dg, "the diagnosis (stick-slip-diagnosis/1)")
     dg.add_argument(
         "--workers",
         type=int,
         default=max(1, min(os.cpu_count() or 1, 8)),
-        help="local processes for the simulations (default: the CPU count)",
+        help="local processes for the simulations (default: the CPU count, at most 8)",
     )
-    dg.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    _add_quiet_option(dg)
     dg.set_defaults(func=cmd_diagnose)
 
     h = sub.add_parser(
@@ -422,7 +470,8 @@ def build_parser() -> argparse.ArgumentParser:
     hr.add_argument("--decimation", type=int, default=1, help="keep every N-th step")
     hr.add_argument("--paced", action="store_true", help="free mode: keep to real time")
     hr.add_argument("--out", help="write the run as a stick-slip-dataset/1 folder")
-    hr.add_argument("--json", action="store_true", help="print a JSON summary")
+    _add_json_option(hr, "the run's summary")
+    _add_quiet_option(hr)
     hr.set_defaults(func=cmd_hil_run)
     hp = hs.add_parser(
         "position",
@@ -441,7 +490,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--max-time-s", type=_finite("--max-time-s"), default=0.2, help="model time limit"
     )
     hp.add_argument("--url", help="serial node to use (default: start one)")
-    hp.add_argument("--json", action="store_true")
+    _add_json_option(hp, "the result")
     hp.set_defaults(func=cmd_hil_position)
     hq = hs.add_parser(
         "firmware-q",
@@ -453,6 +502,8 @@ def build_parser() -> argparse.ArgumentParser:
     hq.add_argument(
         "--preset", choices=("cortex-m0plus", "cortex-m3", "cortex-m4f"), default="cortex-m0plus"
     )
+    _add_json_option(hq, "the staircase and the comparison")
+    _add_quiet_option(hq)
     hq.set_defaults(func=cmd_hil_firmware_q)
     return p
 

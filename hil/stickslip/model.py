@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import ctypes as C
 import math
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
@@ -12,14 +11,30 @@ import numpy as np
 
 from . import _native as N
 
-MODELS = ("ls", "lugre", "gms")  # the friction laws of docs/model.md
-VARIANTS = ("f32", "q")  # float32 core, fixed-point core (docs/fixed-point.md)
+MODELS = tuple(N.FRICTION_KINDS)  # the friction laws of docs/model.md: ls, lugre, gms
+# the float core and the fixed-point core (docs/fixed-point.md); the one vocabulary of variants,
+# in the order of the protocol's variant byte (0 float, 1 fixed point)
+VARIANTS = ("f32", "q")
 
 
 def _model_id(model: str) -> int:
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}, got {model!r}")
-    return {"ls": N.SS_FRICTION_LS, "lugre": N.SS_FRICTION_LUGRE, "gms": N.SS_FRICTION_GMS}[model]
+    return N.FRICTION_KINDS[model]
+
+
+def _c_literal(x: float) -> float:
+    """The decimal a float32 constant of the C library was written as (the shortest that rounds
+    to it: 0.36f gives 0.36), so the defaults below are the C table's values, not their float32
+    approximations, and a float32 of them is the C value again."""
+    return float(str(np.float32(x)))
+
+
+# Table I and the paper's drive have one home, the C library: the defaults below are read from it
+_TABLE1 = N.table1_actuator()
+_TABLE1_MU = N.table1_friction_mu()
+_PAPER = N.paper_sawtooth()
+DT_S = _c_literal(_TABLE1.dt_s)  # Table I's step, 1 us
 
 
 # names of the recorded state columns state_a, state_b (ss_actuator_trace_f32_t)
@@ -65,22 +80,24 @@ class Effects:
 class ActuatorParams:
     """Actuator and friction parameters, named as in stick-slip-dataset/1 (SI units)."""
 
-    mu_s: float = 0.36
-    mu_d: float = 0.30
-    normal_force_n: float = 10.0
-    piezo_stiffness_n_per_m: float = 2.08e8
-    piezo_damping_kg_per_s: float = 6.2
-    rod_mass_kg: float = 1.1e-3
-    slider_mass_kg: float = 1.38e-2
-    stribeck_velocity_m_per_s: float = 4.0e-4
-    sigma0_n_per_m: float = 1.0e7
-    sigma1_ns_per_m: float = 80.0
-    sigma2_ns_per_m: float = 8.0
-    piezo_gain_m_per_v: float = 4.4e-8
+    mu_s: float = _c_literal(_TABLE1_MU.mu_s)
+    mu_d: float = _c_literal(_TABLE1_MU.mu_d)
+    normal_force_n: float = _c_literal(_TABLE1_MU.normal_force_n)
+    piezo_stiffness_n_per_m: float = _c_literal(_TABLE1.piezo_stiffness_n_per_m)
+    piezo_damping_kg_per_s: float = _c_literal(_TABLE1.piezo_damping_kg_per_s)
+    rod_mass_kg: float = _c_literal(_TABLE1.rod_mass_kg)
+    slider_mass_kg: float = _c_literal(_TABLE1.slider_mass_kg)
+    stribeck_velocity_m_per_s: float = _c_literal(_TABLE1_MU.vs_m_per_s)
+    sigma0_n_per_m: float = _c_literal(_TABLE1_MU.sigma0_n_per_m)
+    sigma1_ns_per_m: float = _c_literal(_TABLE1_MU.sigma1_ns_per_m)
+    sigma2_ns_per_m: float = _c_literal(_TABLE1_MU.sigma2_ns_per_m)
+    piezo_gain_m_per_v: float = _c_literal(_TABLE1.piezo_gain_m_per_v)
 
     @classmethod
     def table1(cls) -> ActuatorParams:
-        """Table I of the LS paper (the defaults), with 44 nm/V so 100 V gives 4.4 um."""
+        """Table I of the LS paper (the defaults, from the C library's
+        ss_actuator_config_table1_f32 and ss_friction_mu_table1_f32), with 44 nm/V so 100 V
+        gives 4.4 um."""
         return cls()
 
     @classmethod
@@ -111,7 +128,7 @@ class ActuatorParams:
 
     def friction_config(self) -> N.FrictionConfig:
         # Fs = mu_s N is formed in float by the C library, exactly as firmware forms it
-        return N.lib.ss_friction_config_from_mu_f32(
+        return N.friction_config_from_mu(
             self.mu_s,
             self.mu_d,
             self.normal_force_n,
@@ -122,7 +139,7 @@ class ActuatorParams:
         )
 
     def actuator_config(
-        self, model: str = "ls", dt_s: float = 1e-6, effects: Effects | None = None
+        self, model: str = "ls", dt_s: float = DT_S, effects: Effects | None = None
     ) -> N.ActuatorConfig:
         effects = effects or Effects()
         fcfg = self.friction_config()
@@ -142,14 +159,16 @@ class ActuatorParams:
 
 @dataclass(frozen=True)
 class Sawtooth:
-    """The sawtooth of stick-slip-dataset/1: slow edge for rise_fraction of the period."""
+    """The sawtooth of stick-slip-dataset/1: slow edge for rise_fraction of the period. The
+    defaults are the LS paper's drive (ss_waveform_paper_f32 of the C library): 4.4 um at 500 Hz
+    with a 100 us fall, forward, 20 cycles."""
 
-    frequency_hz: float = 500.0
-    amplitude_v: float = 100.0
-    offset_v: float = 0.0
-    rise_fraction: float = 0.95
-    direction: int = 1
-    cycles: int = 20
+    frequency_hz: float = _c_literal(_PAPER.frequency_hz)
+    amplitude_v: float = _c_literal(_PAPER.amplitude_v)
+    offset_v: float = _c_literal(_PAPER.offset_v)
+    rise_fraction: float = _c_literal(_PAPER.rise_fraction)
+    direction: int = int(_PAPER.direction)
+    cycles: int = int(_PAPER.cycles)
 
     @classmethod
     def from_dict(cls, d: dict, where: str = "waveform") -> Sawtooth:
@@ -279,62 +298,17 @@ class SimResult:
         )
 
 
-def _run_native(
-    cfg, wave_cfg, n_steps: int, decimation: int, x0_m: float = 0.0
-) -> dict[str, np.ndarray]:
-    rows = n_steps // decimation
-    cols = {name: np.zeros(rows + 1, np.float32) for name in N.TRACE_COLUMNS if name != "step"}
-    cols["step"] = np.zeros(rows + 1, np.uint32)
-    st = N.new_actuator_state()
-    wst = N.new_waveform_state()
-    N.check(N.lib.ss_waveform_init_f32(C.byref(wave_cfg), cfg.dt_s, wst), "waveform")
-    v0 = N.lib.ss_waveform_value_f32(C.byref(wave_cfg), wst)
-    N.check(N.lib.ss_actuator_init_f32(C.byref(cfg), st, v0), "actuator parameters")
-    if x0_m != 0.0:
-        N.lib.ss_actuator_place_slider_f32(st, x0_m)
-    first = N.trace_for(cols, rows + 1)
-    N.lib.ss_actuator_record_f32(C.byref(cfg), st, C.byref(first), 0)
-    # the run writes from row 1 on: point a second trace one row in
-    views = {k: v[1:] for k, v in cols.items()}
-    tr = N.trace_for(views, rows)
-    written = C.c_uint32(0)
-    status = N.lib.ss_actuator_run_f32(
-        C.byref(cfg), st, C.byref(wave_cfg), wst, n_steps, decimation, C.byref(tr), C.byref(written)
-    )
-    N.check(status, f"run stopped after {written.value * decimation} steps")
-    return cols
-
-
-def _run_native_q(
-    cfg, wave_cfg, n_steps: int, decimation: int, model: str
-) -> dict[str, np.ndarray]:
-    """The fixed-point core on the same run; columns converted to SI float64."""
-    cq, wq = N.to_q(cfg, wave_cfg)
-    rows = n_steps // decimation
-    cols = {k: np.zeros(rows + 1, dt) for k, (dt, _) in N.TRACE_Q_COLUMNS.items()}
-    st, wst = N.new_actuator_state_q(), N.new_waveform_state_q()
-    N.check(N.lib.ss_waveform_init_q(C.byref(wq), cq.dt_q40, wst), "q waveform")
-    v0 = N.lib.ss_waveform_value_q(C.byref(wq), wst)
-    N.check(N.lib.ss_actuator_init_q(C.byref(cq), st, v0), "q actuator parameters")
-    N.lib.ss_actuator_record_q(C.byref(cq), st, C.byref(N.trace_q_for(cols, rows + 1)), 0)
-    tr = N.trace_q_for({k: v[1:] for k, v in cols.items()}, rows)
-    written = C.c_uint32(0)
-    status = N.lib.ss_actuator_run_q(
-        C.byref(cq), st, C.byref(wq), wst, n_steps, decimation, C.byref(tr), C.byref(written)
-    )
-    N.check(status, f"q run stopped after {written.value * decimation} steps")
-    lugre = model == "lugre"
-    scales = {
-        "state_a": 2.0**-40 if lugre else 2.0**-24,
-        "state_b": 2.0**-28 if lugre else 2.0**-24,
-    }
-    out = {}
-    for k, (_, scale) in N.TRACE_Q_COLUMNS.items():
-        out[k] = cols[k].astype(np.float64) * (scale if scale is not None else scales[k])
+def _si_from_q(cols: dict[str, np.ndarray], model: str) -> dict[str, np.ndarray]:
+    """The q core's integer columns in SI (float64), each times its Q format's scale."""
+    state_a, state_b = N.TRACE_Q_STATES[model]
+    signal = {"state_a": state_a, "state_b": state_b}
     names = {"drive_q16": "drive_v", "x_p_q40": "x_p_m", "x_rod_q40": "x_rod_m"}
     names |= {"x_slider_q40": "x_slider_m", "v_rod_q28": "v_rod_m_per_s", "force_q24": "force_n"}
     names |= {"v_slider_q28": "v_slider_m_per_s"}
-    res = {names.get(k, k): v for k, v in out.items()}
+    res = {"step": cols["step"].astype(np.float64)}
+    for k, v in cols.items():
+        if k != "step":
+            res[names.get(k, k)] = v.astype(np.float64) * N.q_scale(signal.get(k, k))
     res["x_meas_m"] = res["x_slider_m"]  # the q family has no sensor model
     return res
 
@@ -343,7 +317,7 @@ def simulate(
     waveform: Sawtooth | None = None,
     params: ActuatorParams | None = None,
     model: str = "ls",
-    dt_s: float = 1e-6,
+    dt_s: float = DT_S,
     hold_s: float = 0.0,
     decimation: int = 1,
     drive_v: np.ndarray | None = None,
@@ -370,16 +344,12 @@ def simulate(
         if drive_interval_s is None:
             raise ValueError("drive_interval_s is required with drive_v")
         samples = np.ascontiguousarray(drive_v, dtype=np.float32)
-        wave_cfg = N.WaveformConfig()
-        wave_cfg.kind = N.SS_WAVE_SAMPLED
-        wave_cfg.samples_v = N.float_ptr(samples)
-        wave_cfg.n_samples = len(samples)
-        wave_cfg.sample_interval_s = drive_interval_s
+        wave_cfg = N.sampled_waveform(samples, drive_interval_s)
         duration = (len(samples) - 1) * drive_interval_s + hold_s
     if decimation < 1:
         raise ValueError(f"decimation must be >= 1, got {decimation}")
     # let the C library judge the waveform before its duration is trusted
-    N.check(N.lib.ss_waveform_init_f32(C.byref(wave_cfg), dt_s, N.new_waveform_state()), "waveform")
+    N.check_waveform(wave_cfg, dt_s)
     if not (math.isfinite(hold_s) and hold_s >= 0):
         raise ValueError(f"hold_s must be >= 0, got {hold_s}")
     n_steps = int(round(duration / dt_s))
@@ -392,9 +362,9 @@ def simulate(
             raise ValueError("the q variant plays sawtooth waveforms only (no sampled drive)")
         if x0_m != 0.0:
             raise ValueError("the q variant starts the slider at 0 (x0_m must be 0)")
-        f64 = _run_native_q(cfg, wave_cfg, n_steps, decimation, model)
+        f64 = _si_from_q(N.run_q(cfg, wave_cfg, n_steps, decimation), model)
     else:
-        cols = _run_native(cfg, wave_cfg, n_steps, decimation, x0_m)
+        cols = N.run_f32(cfg, wave_cfg, n_steps, decimation, x0_m)
         f64 = {k: v.astype(np.float64) for k, v in cols.items()}
     del samples  # kept alive until the run is over
     return SimResult(
@@ -420,16 +390,7 @@ def drive_samples(waveform: Sawtooth, dt_s: float, n_steps: int) -> np.ndarray:
     """The drive at t = 0 and after each of n_steps steps, float32, from the C library's waveform
     player: exactly what the batch simulator feeds the actuator (for lock-step peers and
     controllers)."""
-    wave_cfg = waveform.config()
-    wst = N.new_waveform_state()
-    N.check(N.lib.ss_waveform_init_f32(C.byref(wave_cfg), dt_s, wst), "waveform")
-    out = np.zeros(n_steps + 1, np.float32)
-    out[0] = N.lib.ss_waveform_value_f32(C.byref(wave_cfg), wst)
-    N.check(
-        N.lib.ss_waveform_fill_f32(C.byref(wave_cfg), wst, N.float_ptr(out[1:]), n_steps),
-        "waveform",
-    )
-    return out
+    return N.drive_samples(waveform.config(), dt_s, n_steps)
 
 
 def friction_response(
@@ -438,21 +399,13 @@ def friction_response(
     """Friction force (N) of the C model under a prescribed relative displacement x_m, sampled
     every dt_s, starting from the virgin state at x_m[0]."""
     params = params or ActuatorParams.table1()
-    kind = _model_id(model)
+    _model_id(model)  # a ValueError naming the laws for an unknown one
     fcfg = params.friction_config()
     N.check_config(fcfg, "friction")
     dx = np.ascontiguousarray(np.diff(np.asarray(x_m, np.float64), prepend=x_m[0]), np.float32)
-    out = np.zeros_like(dx)
-    st = N.new_friction_state(kind)
-    init, run = getattr(N.lib, f"ss_{model}_init_f32"), getattr(N.lib, f"ss_{model}_run_f32")
-    N.check(init(C.byref(fcfg), st), "friction parameters")
-    N.check(
-        run(C.byref(fcfg), st, N.float_ptr(dx), len(dx), dt_s, N.float_ptr(out)), "friction run"
-    )
-    return out.astype(np.float64)
+    return N.friction_run(model, fcfg, dx, dt_s).astype(np.float64)
 
 
 def stribeck(v_m_per_s: np.ndarray, params: ActuatorParams | None = None) -> np.ndarray:
     """The Stribeck curve g(v) of the C library (N)."""
-    fcfg = (params or ActuatorParams.table1()).friction_config()
-    return np.array([N.lib.ss_stribeck_f32(C.byref(fcfg), float(v)) for v in np.ravel(v_m_per_s)])
+    return N.stribeck((params or ActuatorParams.table1()).friction_config(), v_m_per_s)

@@ -1,5 +1,6 @@
 /* Sizes of the public structs, so that a binding (hil/stickslip/_native.py) can check its
- * mirrors of them at load time instead of trusting a copy of the layout. */
+ * mirrors of them at load time instead of trusting a copy of the layout; and the Q format of each
+ * fixed-point signal (ss_qformat.h), so that it scales the q family's integers without a copy. */
 #ifndef SS_ABI_H
 #define SS_ABI_H
 
@@ -24,10 +25,16 @@ typedef enum {
     SS_ABI_ACTUATOR_TRACE_Q = 15,
     SS_ABI_ACTUATOR_SI = 16,
     SS_ABI_EFFECTS_CONFIG_F32 = 20,
-    SS_ABI_GMS_STATE_F32 = 21
+    SS_ABI_GMS_STATE_F32 = 21,
+    SS_ABI_FRICTION_MU_F32 = 22
 } ss_abi_struct_t;
 
 /* sizeof the struct, or 0 for an unknown id. */
 uint32_t ss_abi_sizeof(int32_t which);
+
+/* Entry i of the table of the q family's signals, named as their struct fields (trace columns and
+ * state fields, "ls." / "lugre." for the friction states, config fields): the shift n of its Q
+ * format (SI value = integer * 2^-n) and its name in *name; -1 (and *name NULL) past the end. */
+int32_t ss_abi_qformat(uint32_t i, const char **name);
 
 #endif /* SS_ABI_H */

@@ -9,13 +9,17 @@
 
 #include "ss_actuator.h"
 #include "ss_actuator_q.h"
+#include "ss_qformat.h"
+
+/* 2^n as a double, exact (n < 63): the scale of a Q format of ss_qformat.h. */
+#define SS_QF_ONE(n) ((double)((int64_t)1 << (n)))
 
 /* Scale factors of the q family (value in SI = integer * scale). */
-#define SS_Q40_M (1.0 / 1099511627776.0)   /* 2^-40: length (m) and time (s) */
-#define SS_Q28_M_PER_S (1.0 / 268435456.0) /* 2^-28: velocity (m/s) */
-#define SS_Q24_N (1.0 / 16777216.0)        /* 2^-24: force (N) */
-#define SS_Q16 (1.0 / 65536.0)             /* 2^-16: voltage (V), damping (N s/m) */
-#define SS_Q48_M_PER_V (1.0 / 281474976710656.0)
+#define SS_Q40_M (1.0 / SS_QF_ONE(SS_QF_LENGTH))         /* 2^-40: length (m) and time (s) */
+#define SS_Q28_M_PER_S (1.0 / SS_QF_ONE(SS_QF_VELOCITY)) /* 2^-28: velocity (m/s) */
+#define SS_Q24_N (1.0 / SS_QF_ONE(SS_QF_FORCE))          /* 2^-24: force (N) */
+#define SS_Q16 (1.0 / SS_QF_ONE(SS_QF_VOLTAGE))          /* 2^-16: voltage (V), damping (N s/m) */
+#define SS_Q48_M_PER_V (1.0 / SS_QF_ONE(SS_QF_GAIN))
 
 /* The conversions below return SS_OK, SS_ERR_NULL, SS_ERR_NONFINITE or SS_ERR_RANGE. On error
  * *bad_field (when not NULL) names the float field whose value does not pass the float check or

@@ -15,7 +15,23 @@ typedef struct {
     float asymmetry;       /* contact force times 1 + asymmetry sgn(load): direction-dependent, [-0.9, 0.9] */
 } ss_friction_config_f32_t;
 
-/* Table I of the LS paper: mu_s 0.36, mu_d 0.30, N 10 N, vs 0.4 mm/s, sigma 1e7/80/8. */
+/* The friction of Table I of the LS paper as the dataset (stick-slip-dataset/1) names it:
+ * coefficients and clamping force, from which ss_friction_config_from_mu_f32 makes the config. */
+typedef struct {
+    float mu_s;            /* static friction coefficient */
+    float mu_d;            /* dynamic (Coulomb) friction coefficient */
+    float normal_force_n;  /* clamping force N */
+    float vs_m_per_s;      /* Stribeck velocity */
+    float sigma0_n_per_m;  /* initial contact stiffness */
+    float sigma1_ns_per_m; /* micro-damping */
+    float sigma2_ns_per_m; /* viscous friction */
+} ss_friction_mu_f32_t;
+
+/* Table I of the LS paper: mu_s 0.36, mu_d 0.30, N 10 N, vs 0.4 mm/s, sigma 1e7/80/8 (the one home
+ * of these values in C; the node's parameter defaults and ss_friction_config_table1_f32 use it). */
+ss_friction_mu_f32_t ss_friction_mu_table1_f32(void);
+
+/* ss_friction_config_from_mu_f32 of ss_friction_mu_table1_f32(). */
 ss_friction_config_f32_t ss_friction_config_table1_f32(void);
 
 /* Config from friction coefficients and clamping (normal) force; symmetric (asymmetry 0). */

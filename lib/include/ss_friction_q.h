@@ -1,12 +1,13 @@
 /* Fixed-point (_q) parameters of the friction models and the Stribeck curve
  * g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2). Integer arithmetic only; formats: docs/fixed-point.md.
  * Units of the q family: length 2^-40 m (_q40), time 2^-40 s (_q40), velocity 2^-28 m/s (_q28),
- * force 2^-24 N (_q24), damping Q16.16 N s/m (_q16), ratios Q1.30 (_q30). */
+ * force 2^-24 N (_q24), damping Q16.16 N s/m (_q16), ratios Q1.30 (_q30); the shifts: ss_qformat.h. */
 #ifndef SS_FRICTION_Q_H
 #define SS_FRICTION_Q_H
 
 #include <stdint.h>
 
+#include "ss_qformat.h"
 #include "ss_status.h"
 
 /* Largest static friction the q family takes: forces are int32 at 2^-24 N (+-128 N), and the

@@ -35,6 +35,10 @@ typedef struct {
 ss_waveform_config_f32_t ss_waveform_sawtooth_f32(float frequency_hz, float amplitude_v, float offset_v,
                                                   float rise_fraction, int32_t direction, uint32_t cycles);
 
+/* The paper's drive (LS paper, Fig. 13): 500 Hz, 100 V (4.4 um at 44 nm/V), offset 0, rise 0.95
+ * (a 100 us fall), forward, 20 cycles. The q family's is ss_waveform_paper_q (ss_waveform_q.h). */
+ss_waveform_config_f32_t ss_waveform_paper_f32(void);
+
 /* Validate cfg and start the player at t = 0 with step dt_s. */
 ss_status_t ss_waveform_init_f32(const ss_waveform_config_f32_t *cfg, float dt_s,
                                  ss_waveform_state_f32_t *st);

@@ -28,6 +28,12 @@ ss_waveform_config_q_t ss_waveform_sawtooth_q(uint32_t frequency_mhz, int32_t am
                                               int32_t offset_q16, uint32_t rise_q32, int32_t direction,
                                               uint32_t cycles);
 
+/* The paper's drive (ss_waveform_paper_f32) in integer constants, what ss_waveform_config_to_q
+ * makes of it (checked by tests/c/test_fixed_model.c): 500000 mHz, 100 V in Q16.16, offset 0, rise
+ * 4080218880 (the float32 0.95f is 15938355 x 2^-24, exact at 2^-32; round(0.95 x 2^32) would
+ * move the fall edge), forward, 20 cycles. */
+ss_waveform_config_q_t ss_waveform_paper_q(void);
+
 /* Validate cfg (SS_ERR_RANGE also when a period is not longer than the step) and start the player
  * at t = 0 with step dt (s at 2^-40, > 0). */
 ss_status_t ss_waveform_init_q(const ss_waveform_config_q_t *cfg, int32_t dt_q40, ss_waveform_state_q_t *st);

@@ -114,8 +114,8 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
      * formats' ranges (a drive jump beyond 8 m/s of strain rate is not a physical drive). */
     const int32_t x_p1 = strain_q40(cfg, drive_q16);
     const int64_t dxp = ss_sat32((int64_t)x_p1 - st->x_p_q40);
-    const int64_t b = ss_sat32(ss_div_round(dxp * ((int64_t)1 << 28), dt)); /* m/s at 2^-28 */
-    const int64_t lag = ss_shr_round((int64_t)cfg->lag_q24 * dxp, 24);      /* c b / k, m at 2^-40 */
+    const int64_t b = ss_sat32(ss_div_round(dxp * ((int64_t)1 << SS_QF_DXDT), dt)); /* m/s at 2^-28 */
+    const int64_t lag = ss_shr_round((int64_t)cfg->lag_q24 * dxp, SS_QF_LAG);       /* c b / k, m at 2^-40 */
     const int64_t e0 = ss_sat32((int64_t)st->x_rod_q40 - (st->x_p_q40 - lag));
     const int64_t ed0 = ss_sat32((int64_t)st->v_rod_q28 - b);
     const int32_t *phi = cfg->phi_q28;

@@ -31,12 +31,12 @@ static ss_status_t friction_to_q(const ss_friction_config_f32_t *in, int prefixe
     const double i32max = 2147483647.0;
     int64_t v[6] = {0, 0, 0, 0, 0, 0};
     const int ok[6] = {
-        to_int((double)in->fs_n * 16777216.0, 1.0, (double)SS_Q_FS_MAX_Q24, &v[0]),
-        to_int((double)in->fc_n * 16777216.0, 1.0, i32max, &v[1]),
-        to_int((double)in->vs_m_per_s * 268435456.0, 1.0, i32max, &v[2]),
+        to_int((double)in->fs_n * SS_QF_ONE(SS_QF_FORCE), 1.0, (double)SS_Q_FS_MAX_Q24, &v[0]),
+        to_int((double)in->fc_n * SS_QF_ONE(SS_QF_FORCE), 1.0, i32max, &v[1]),
+        to_int((double)in->vs_m_per_s * SS_QF_ONE(SS_QF_VELOCITY), 1.0, i32max, &v[2]),
         to_int((double)in->sigma0_n_per_m, 1.0, i32max, &v[3]),
-        to_int((double)in->sigma1_ns_per_m * 65536.0, 0.0, i32max, &v[4]),
-        to_int((double)in->sigma2_ns_per_m * 65536.0, 0.0, i32max, &v[5]),
+        to_int((double)in->sigma1_ns_per_m * SS_QF_ONE(SS_QF_DAMPING), 0.0, i32max, &v[4]),
+        to_int((double)in->sigma2_ns_per_m * SS_QF_ONE(SS_QF_DAMPING), 0.0, i32max, &v[5]),
     };
     for (int i = 0; i < 6; ++i) {
         if (!ok[i]) {
@@ -59,7 +59,8 @@ static ss_status_t friction_to_q(const ss_friction_config_f32_t *in, int prefixe
         *bad = names[1];
         return SS_ERR_RANGE;
     }
-    if ((int64_t)24 * out->fs_q24 * 65536 > SS_Q_SAT_LENGTH_MAX_Q40 * out->sigma0_n_per_m) {
+    if ((int64_t)24 * out->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) >
+        SS_Q_SAT_LENGTH_MAX_Q40 * out->sigma0_n_per_m) {
         *bad = names[3];
         return SS_ERR_RANGE;
     }
@@ -141,30 +142,30 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
     const double i32max = 2147483647.0;
     int64_t v = 0;
     /* everything below uses the step the q family actually takes, dt_q40 2^-40 s */
-    if (!to_int((double)in->dt_s * 1099511627776.0, 1100.0, i32max, &v)) {
+    if (!to_int((double)in->dt_s * SS_QF_ONE(SS_QF_TIME), 1100.0, i32max, &v)) {
         *bad = "dt_s";
         return SS_ERR_RANGE;
     }
     out->dt_q40 = (int32_t)v;
     const double dt = (double)v * SS_Q40_M;
-    if (!to_int((double)in->piezo_gain_m_per_v * 281474976710656.0, -i32max, i32max, &v) || v == 0) {
+    if (!to_int((double)in->piezo_gain_m_per_v * SS_QF_ONE(SS_QF_GAIN), -i32max, i32max, &v) || v == 0) {
         *bad = "piezo_gain_m_per_v";
         return SS_ERR_RANGE;
     }
     out->piezo_gain_q48 = (int32_t)v;
     const double k = (double)in->piezo_stiffness_n_per_m;
     const double c = (double)in->piezo_damping_kg_per_s;
-    if (!to_int(c / (k * dt) * 16777216.0, 0.0, i32max, &v)) {
+    if (!to_int(c / (k * dt) * SS_QF_ONE(SS_QF_LAG), 0.0, i32max, &v)) {
         *bad = "piezo_damping_kg_per_s";
         return SS_ERR_RANGE;
     }
     out->lag_q24 = (int32_t)v;
-    if (!to_int(dt / (2.0 * (double)in->rod_mass_kg) * 1099511627776.0, 1.0, i32max, &v)) {
+    if (!to_int(dt / (2.0 * (double)in->rod_mass_kg) * SS_QF_ONE(SS_QF_KICK), 1.0, i32max, &v)) {
         *bad = "rod_mass_kg";
         return SS_ERR_RANGE;
     }
     out->kick_rod_q40 = (int32_t)v;
-    if (!to_int(dt / (2.0 * (double)in->slider_mass_kg) * 1099511627776.0, 1.0, i32max, &v)) {
+    if (!to_int(dt / (2.0 * (double)in->slider_mass_kg) * SS_QF_ONE(SS_QF_KICK), 1.0, i32max, &v)) {
         *bad = "slider_mass_kg";
         return SS_ERR_RANGE;
     }
@@ -173,7 +174,7 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
     rod_flow(k, c, (double)in->rod_mass_kg, dt, phi);
     const double scaled[4] = {phi[0], phi[1] / dt, phi[2] * dt, phi[3]};
     for (int i = 0; i < 4; ++i) {
-        if (!to_int(scaled[i] * 268435456.0, -i32max, i32max, &v)) {
+        if (!to_int(scaled[i] * SS_QF_ONE(SS_QF_FLOW), -i32max, i32max, &v)) {
             *bad = "piezo_stiffness_n_per_m"; /* the rod mode is too fast for the step */
             return SS_ERR_RANGE;
         }
@@ -189,7 +190,7 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
 
 int32_t ss_volts_to_q16(double v)
 {
-    const double r = floor(v * 65536.0 + 0.5);
+    const double r = floor(v * SS_QF_ONE(SS_QF_VOLTAGE) + 0.5);
     if (!(r == r)) {
         return 0;
     }
@@ -222,9 +223,9 @@ ss_status_t ss_waveform_config_to_q(const ss_waveform_config_f32_t *in, ss_wavef
     static const char *const names[4] = {"frequency_hz", "amplitude_v", "offset_v", "rise_fraction"};
     const int ok[4] = {
         to_int((double)in->frequency_hz * 1000.0, 1.0, 4294967295.0, &v[0]),
-        to_int((double)in->amplitude_v * 65536.0, -i32max, i32max, &v[1]),
-        to_int((double)in->offset_v * 65536.0, -i32max, i32max, &v[2]),
-        to_int((double)in->rise_fraction * 4294967296.0, 1.0, 4294967295.0, &v[3]),
+        to_int((double)in->amplitude_v * SS_QF_ONE(SS_QF_VOLTAGE), -i32max, i32max, &v[1]),
+        to_int((double)in->offset_v * SS_QF_ONE(SS_QF_VOLTAGE), -i32max, i32max, &v[2]),
+        to_int((double)in->rise_fraction * SS_QF_ONE(SS_QF_FRACTION), 1.0, 4294967295.0, &v[3]),
     };
     for (int i = 0; i < 4; ++i) {
         if (!isfinite(vals[i])) {

@@ -20,9 +20,17 @@ ss_friction_config_f32_t ss_friction_config_from_mu_f32(float mu_s, float mu_d, 
     return cfg;
 }
 
+ss_friction_mu_f32_t ss_friction_mu_table1_f32(void)
+{
+    const ss_friction_mu_f32_t m = {0.36f, 0.30f, 10.0f, 0.4e-3f, 1.0e7f, 80.0f, 8.0f};
+    return m;
+}
+
 ss_friction_config_f32_t ss_friction_config_table1_f32(void)
 {
-    return ss_friction_config_from_mu_f32(0.36f, 0.30f, 10.0f, 0.4e-3f, 1.0e7f, 80.0f, 8.0f);
+    const ss_friction_mu_f32_t m = ss_friction_mu_table1_f32();
+    return ss_friction_config_from_mu_f32(m.mu_s, m.mu_d, m.normal_force_n, m.vs_m_per_s, m.sigma0_n_per_m,
+                                          m.sigma1_ns_per_m, m.sigma2_ns_per_m);
 }
 
 /* Field names, bare and as seen from the actuator config (no string functions in lib/). */

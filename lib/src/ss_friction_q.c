@@ -42,8 +42,8 @@ ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, 
         bad = 1; /* Fc above Fs would make the Stribeck curve rise; s/g <= Fs/Fc must fit */
     } else if (cfg->vs_q28 <= 0) {
         bad = 2;
-    } else if (cfg->sigma0_n_per_m <= 0 ||
-               (int64_t)24 * cfg->fs_q24 * 65536 > SS_Q_SAT_LENGTH_MAX_Q40 * cfg->sigma0_n_per_m) {
+    } else if (cfg->sigma0_n_per_m <= 0 || (int64_t)24 * cfg->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) >
+                                               SS_Q_SAT_LENGTH_MAX_Q40 * cfg->sigma0_n_per_m) {
         bad = 3; /* the presliding length must fit the element's local frame */
     } else if (cfg->sigma1_q16 < 0) {
         bad = 4;

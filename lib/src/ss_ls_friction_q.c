@@ -107,7 +107,8 @@ static void rebase(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
         return; /* reversal points bound the excursion */
     }
     const int64_t u = (int64_t)st->x_q40 - st->x0_q40;
-    const int64_t l_sat = SS_LS_Q_SATURATION_LENGTHS * (int64_t)cfg->fs_q24 * 65536 / cfg->sigma0_n_per_m;
+    const int64_t l_sat = SS_LS_Q_SATURATION_LENGTHS * (int64_t)cfg->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) /
+                          cfg->sigma0_n_per_m;
     if (ss_abs64(u) > l_sat) {
         st->x0_q40 = (int32_t)(-ss_sign32(u) * l_sat);
         st->x_q40 = 0;
@@ -132,7 +133,8 @@ void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
         rebase(cfg, st);
     }
     /* elastic-plastic split: dF_M / sigma0 in m at 2^-40 is dF_M [2^-24 N] x 2^16 / sigma0 */
-    int64_t slip = dx_q40 - ss_div_round(((int64_t)st->fm_q24 - fm_old) * 65536, cfg->sigma0_n_per_m);
+    int64_t slip = dx_q40 - ss_div_round(((int64_t)st->fm_q24 - fm_old) * ((int64_t)1 << SS_QF_F_OVER_K),
+                                         cfg->sigma0_n_per_m);
     if ((slip > 0 && dx_q40 < 0) || (slip < 0 && dx_q40 > 0)) {
         slip = 0; /* rounding only: the tangent stiffness never exceeds sigma0 */
     }
@@ -141,7 +143,7 @@ void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
         return; /* no gross slip: the level keeps its value (exp(0) = 1) */
     }
     /* LuGre in the slip, exact for a slip velocity frozen over the step */
-    const int32_t v_slip = ss_sat32(ss_div_round(slip * ((int64_t)1 << 28), dt_q40));
+    const int32_t v_slip = ss_sat32(ss_div_round(slip * ((int64_t)1 << SS_QF_DXDT), dt_q40));
     const int64_t g = ss_stribeck_q(cfg, v_slip);
     const int64_t decay = ss_exp_neg_q32_q30(exponent_q32(cfg, slip, g));
     st->level_q24 = (int32_t)(g + ss_shr_round(((int64_t)st->level_q24 - g) * decay, 30));
@@ -153,7 +155,7 @@ int32_t ss_ls_step_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
         return st->force_q24;
     }
     ss_ls_advance_q(cfg, st, dx_q40, dt_q40);
-    const int32_t v = ss_sat32(ss_div_round((int64_t)dx_q40 * ((int64_t)1 << 28), dt_q40));
+    const int32_t v = ss_sat32(ss_div_round((int64_t)dx_q40 * ((int64_t)1 << SS_QF_DXDT), dt_q40));
     st->force_q24 = ss_ls_force_at_q(cfg, st, v, NULL);
     return st->force_q24;
 }

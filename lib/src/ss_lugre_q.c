@@ -25,7 +25,7 @@ ss_status_t ss_lugre_init_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_
 
 static int32_t velocity_q28(int32_t dx_q40, int32_t dt_q40)
 {
-    return ss_sat32(ss_div_round((int64_t)dx_q40 * ((int64_t)1 << 28), dt_q40));
+    return ss_sat32(ss_div_round((int64_t)dx_q40 * ((int64_t)1 << SS_QF_DXDT), dt_q40));
 }
 
 /* sigma0 z / g in Q30 (z in m at 2^-40, g in N at 2^-24: sigma0 z is N at 2^-40). */
@@ -45,7 +45,8 @@ void ss_lugre_advance_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *s
     /* z relaxes to sgn(v) g / sigma0 over the distance g / sigma0: exact for v frozen over the step */
     const int32_t v = velocity_q28(dx_q40, dt_q40);
     const int64_t g = ss_stribeck_q(cfg, v);
-    const int64_t z_ss = ss_sign32(dx_q40) * ss_div_round(g * 65536, cfg->sigma0_n_per_m);
+    const int64_t z_ss =
+        ss_sign32(dx_q40) * ss_div_round(g * ((int64_t)1 << SS_QF_F_OVER_K), cfg->sigma0_n_per_m);
     /* exponent sigma0 |dx| / g with 32 fraction bits, as in the LS element */
     const uint64_t num = (uint64_t)cfg->sigma0_n_per_m * (uint64_t)ss_abs64(dx_q40);
     const int64_t decay = ss_exp_neg_q32_q30(ss_ratio_x65536(num, (uint64_t)g));

@@ -22,6 +22,11 @@ ss_waveform_config_f32_t ss_waveform_sawtooth_f32(float frequency_hz, float ampl
     return cfg;
 }
 
+ss_waveform_config_f32_t ss_waveform_paper_f32(void)
+{
+    return ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, 20);
+}
+
 static ss_status_t check_sawtooth(const ss_waveform_config_f32_t *cfg)
 {
     ss_status_t st = ss_check_range_f32(cfg->frequency_hz, 1e-6f, 1e6f);

@@ -18,6 +18,11 @@ ss_waveform_config_q_t ss_waveform_sawtooth_q(uint32_t frequency_mhz, int32_t am
     return cfg;
 }
 
+ss_waveform_config_q_t ss_waveform_paper_q(void)
+{
+    return ss_waveform_sawtooth_q(500000u, 100 * 65536, 0, 4080218880u, 1, 20u);
+}
+
 ss_status_t ss_waveform_init_q(const ss_waveform_config_q_t *cfg, int32_t dt_q40, ss_waveform_state_q_t *st)
 {
     if (cfg == NULL || st == NULL) {

@@ -46,7 +46,7 @@ typedef enum {
 } ss_proto_error_t;
 
 #define SS_PROTO_ROW_BYTES 24u
-#define SS_PROTO_MAX_ROWS 40u
+#define SS_PROTO_MAX_ROWS 40 /* unsuffixed: ss_node_serial.c quotes it in a reason text */
 
 /* Short name of an error code ("bad_crc", ...), never NULL. */
 const char *ss_proto_error_name(ss_proto_error_t code);

@@ -1,5 +1,7 @@
 #include "ss_can_msg.h"
 
+#include <stddef.h>
+
 #include "ss_proto.h" /* little-endian helpers */
 
 static void frame(ss_can_frame_t *f, uint32_t id, uint8_t dlc)
@@ -61,6 +63,29 @@ int ss_can_unpack_reply(const ss_can_frame_t *f, ss_can_reply_t *m)
     m->status = f->data[2];
     m->index = f->data[3];
     m->value = ss_get_f32(&f->data[4]);
+    return 1;
+}
+
+void ss_can_pack_reason(const ss_can_reason_t *m, ss_can_frame_t *f)
+{
+    frame(f, SS_CAN_ID_REASON, 8);
+    f->data[0] = m->cmd;
+    f->data[1] = m->seq;
+    for (size_t i = 0; i < SS_CAN_REASON_CHARS; ++i) {
+        f->data[2 + i] = (uint8_t)m->text[i];
+    }
+}
+
+int ss_can_unpack_reason(const ss_can_frame_t *f, ss_can_reason_t *m)
+{
+    if (!is(f, SS_CAN_ID_REASON, 8)) {
+        return 0;
+    }
+    m->cmd = f->data[0];
+    m->seq = f->data[1];
+    for (size_t i = 0; i < SS_CAN_REASON_CHARS; ++i) {
+        m->text[i] = (char)f->data[2 + i];
+    }
     return 1;
 }
 

@@ -59,6 +59,19 @@ static void test_messages_match_cantools(void **unused)
             ss_can_reply_t back;
             assert_true(ss_can_unpack_reply(got, &back));
             assert_memory_equal(&back, &m, sizeof m);
+        } else if (strcmp(name, "SS_REASON") == 0) {
+            ss_can_reason_t m;
+            memset(&m, 0, sizeof m);
+            m.cmd = (uint8_t)field(json, "cmd");
+            m.seq = (uint8_t)field(json, "seq");
+            const double text = field(json, "text"); /* 48 bits, exact in double */
+            for (unsigned i = 0; i < SS_CAN_REASON_CHARS; ++i) {
+                m.text[i] = (char)((uint64_t)text >> (8u * i));
+            }
+            ss_can_pack_reason(&m, got);
+            ss_can_reason_t back;
+            assert_true(ss_can_unpack_reason(got, &back));
+            assert_memory_equal(&back, &m, sizeof m);
         } else if (strcmp(name, "SS_DRIVE") == 0) {
             ss_can_drive_t m;
             memset(&m, 0, sizeof m);
@@ -93,7 +106,7 @@ static void test_messages_match_cantools(void **unused)
         cases++;
     }
     fclose(f);
-    assert_int_equal(cases, 9);
+    assert_int_equal(cases, 10);
     ss_can_frame_t other = {0x300, 8, 0, 0, {0}};
     ss_can_cmd_t c;
     assert_false(ss_can_unpack_cmd(&other, &c)); /* other bus traffic is not a command */

@@ -40,6 +40,20 @@ static void test_table1_constants_match_converter(void **unused)
     assert_int_equal(ss_actuator_config_check_q(&tab, &bad), SS_OK);
 }
 
+/* The paper's drive in q is what the converter makes of the float one, field by field. */
+static void test_paper_drive_constants_match_converter(void **unused)
+{
+    (void)unused;
+    const ss_waveform_config_f32_t f = ss_waveform_paper_f32();
+    ss_waveform_config_q_t conv;
+    memset(&conv, 0, sizeof conv);
+    const char *bad = NULL;
+    assert_int_equal(ss_waveform_config_to_q(&f, &conv, &bad), SS_OK);
+    const ss_waveform_config_q_t tab = ss_waveform_paper_q();
+    assert_memory_equal(&conv, &tab, sizeof conv);
+    assert_int_equal(tab.rise_q32, 4080218880u);
+}
+
 /* Values that pass the float check but do not fit a Q format are rejected, and named. */
 static void test_converter_names_bad_fields(void **unused)
 {
@@ -611,6 +625,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_table1_constants_match_converter),
+        cmocka_unit_test(test_paper_drive_constants_match_converter),
         cmocka_unit_test(test_converter_names_bad_fields),
         cmocka_unit_test(test_q_presliding_loops_follow_float),
         cmocka_unit_test(test_q_initial_stiffness),

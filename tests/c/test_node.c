@@ -2,14 +2,16 @@
  * and that nothing rejected changes the model. */
 #include "ss_test.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "ss_fake_link.h"
-#include "ss_node.h"
+#include "ss_node_can.h"
+#include "ss_node_serial.h"
 
 static fake_t fk;
 static ss_port_link_t link_ = {&fk, fake_read, fake_write, fake_time};
-static ss_node_t node;
+static ss_node_serial_t node;
 static uint8_t host_seq;
 
 static int setup(void **unused)
@@ -18,7 +20,7 @@ static int setup(void **unused)
     memset(&fk, 0, sizeof fk);
     host_seq = 0;
     memset(&node, 0, sizeof node);
-    ss_node_init(&node, &link_);
+    ss_node_serial_init(&node, &link_);
     return 0;
 }
 
@@ -43,7 +45,7 @@ static const ss_proto_packet_t *request(uint8_t type, const uint8_t *p, size_t n
 {
     fk.out_n = 0;
     send_req(type, host_seq++, p, n);
-    ss_node_poll(&node);
+    ss_node_serial_poll(&node);
     ss_proto_rx_t rx;
     ss_proto_rx_init(&rx);
     int frames = 0;
@@ -94,7 +96,7 @@ static void test_params(void **unused)
     r = request(SS_MSG_GET_PARAM, p, 1);
     assert_true(ss_get_f32(&r->payload[2]) == 0.5f);
     /* refusals name the parameter and change nothing */
-    const ss_node_params_t before = node.params;
+    const ss_node_params_t before = node.core.params;
     p[0] = 6; /* mu_d above mu_s: Fc > Fs */
     ss_put_f32(&p[1], 0.7f);
     expect_error(request(SS_MSG_SET_PARAM, p, 5), SS_PERR_OUT_OF_RANGE, "mu_d");
@@ -112,7 +114,7 @@ static void test_params(void **unused)
     memcpy(&p[5], "mass", 4);
     expect_error(request(SS_MSG_SET_PARAM, p, 9), SS_PERR_UNKNOWN_PARAM, "name");
     expect_error(request(SS_MSG_SET_PARAM, p, 3), SS_PERR_BAD_PAYLOAD, "SET_PARAM");
-    assert_memory_equal(&node.params, &before, sizeof before);
+    assert_memory_equal(&node.core.params, &before, sizeof before);
     /* PARAM_INFO */
     p[0] = 9;
     r = request(SS_MSG_PARAM_INFO, p, 1);
@@ -144,21 +146,21 @@ static void test_drive_block_lockstep_and_duplicate(void **unused)
     assert_true(ss_get_f32(last + 12) == ref.x_slider.hi_m);
     assert_true(ss_get_f32(last + 20) == ref.force_n);
     /* the same frame again (same seq): refused, the model does not move */
-    const uint32_t steps = node.st.steps;
+    const uint32_t steps = node.core.st.steps;
     fk.out_n = 0;
     send_req(SS_MSG_DRIVE_BLOCK, (uint8_t)(host_seq - 1u), p, sizeof p);
-    ss_node_poll(&node);
-    assert_int_equal(node.st.steps, steps);
+    ss_node_serial_poll(&node);
+    assert_int_equal(node.core.st.steps, steps);
     assert_true(fk.out_n > 0);
     /* a NaN anywhere in a block: refused as a whole */
-    const ss_actuator_state_f32_t before = node.st;
+    const ss_actuator_state_f32_t before = node.core.st;
     ss_put_f32(&p[2 + 4 * 30], NAN);
     expect_error(request(SS_MSG_DRIVE_BLOCK, p, sizeof p), SS_PERR_NON_FINITE, "drive sample");
     ss_put_u16(p, 3); /* 40 / 3 rows is fine, decimation 0 is not */
     ss_put_u16(p, 0);
     expect_error(request(SS_MSG_DRIVE_BLOCK, p, sizeof p), SS_PERR_OUT_OF_RANGE, "decimation");
     expect_error(request(SS_MSG_DRIVE_BLOCK, p, 5), SS_PERR_BAD_PAYLOAD, "DRIVE_BLOCK");
-    assert_memory_equal(&node.st, &before, sizeof before);
+    assert_memory_equal(&node.core.st, &before, sizeof before);
 }
 
 static void test_free_run_paced_busy_stop(void **unused)
@@ -180,33 +182,94 @@ static void test_free_run_paced_busy_stop(void **unused)
     ss_put_f32(&w[12], 0.95f);
     assert_int_equal(request(SS_MSG_LOAD_WAVEFORM, w, 21)->type, SS_MSG_LOAD_WAVEFORM | SS_MSG_REPLY);
     request(SS_MSG_RUN, run, 7);
-    assert_int_equal(node.running, 1);
+    assert_int_equal(node.core.running, 1);
     /* paced: nothing is due until the clock moves */
-    ss_node_poll(&node);
-    assert_int_equal(node.run_done, 0);
+    ss_node_serial_poll(&node);
+    assert_int_equal(node.core.run_done, 0);
     fk.now_us += 250; /* 250 us: 250 steps due */
-    ss_node_poll(&node);
-    assert_int_equal(node.run_done, 250);
+    ss_node_serial_poll(&node);
+    assert_int_equal(node.core.run_done, 250);
     expect_error(request(SS_MSG_RESET, w, 4), SS_PERR_BUSY, "run");
     const ss_proto_packet_t *r = request(SS_MSG_STOP, NULL, 0);
     assert_int_equal(r->type, SS_MSG_STOP | SS_MSG_REPLY);
     assert_int_equal(ss_get_u32(&r->payload[1]), 250);
-    assert_int_equal(node.running, 0);
+    assert_int_equal(node.core.running, 0);
     /* unpaced to the end: RUN reply with all steps done */
     run[6] = 0;
     ss_put_u32(run, 3000);
     request(SS_MSG_RUN, run, 7);
-    for (int i = 0; i < 5 && node.running; ++i) {
-        ss_node_poll(&node);
+    for (int i = 0; i < 5 && node.core.running; ++i) {
+        ss_node_serial_poll(&node);
     }
-    assert_int_equal(node.running, 0);
-    assert_int_equal(node.run_done, 3000);
+    assert_int_equal(node.core.running, 0);
+    assert_int_equal(node.core.run_done, 3000);
+}
+
+static void load_paper_waveform(uint32_t cycles)
+{
+    uint8_t w[21] = {0};
+    ss_put_f32(w, 500.0f);
+    ss_put_f32(&w[4], 100.0f);
+    ss_put_f32(&w[12], 0.95f);
+    w[16] = 1;
+    ss_put_u32(&w[17], cycles);
+    assert_int_equal(request(SS_MSG_LOAD_WAVEFORM, w, 21)->type, SS_MSG_LOAD_WAVEFORM | SS_MSG_REPLY);
+}
+
+static void run_to_end(uint32_t steps, uint16_t decimation)
+{
+    uint8_t run[7];
+    ss_put_u32(run, steps);
+    ss_put_u16(&run[4], decimation);
+    run[6] = 0;
+    request(SS_MSG_RUN, run, 7);
+    while (node.core.running) {
+        ss_node_serial_poll(&node);
+    }
+}
+
+/* SET_PARAM after a run that stopped mid-ramp: the model goes to rest where the next RUN starts
+ * (the waveform at t = 0), so the next RUN's first step moves the drive by one step of the ramp,
+ * not from the old run's last drive back to the start (52 V at once, before the fix). */
+static void test_set_param_then_run_does_not_jump(void **unused)
+{
+    (void)unused;
+    load_paper_waveform(2);
+    run_to_end(1000, 1000); /* half way up the first ramp: about 52 V */
+    assert_true(node.core.st.drive_v > 50.0f);
+    uint8_t p[5] = {7}; /* normal_force_n, set to what it is */
+    ss_put_f32(&p[1], 10.0f);
+    assert_int_equal(request(SS_MSG_SET_PARAM, p, 5)->type, SS_MSG_SET_PARAM | SS_MSG_REPLY);
+    const float rest_v = node.core.st.drive_v;
+    run_to_end(1, 1);
+    assert_true(fabsf(node.core.st.drive_v - rest_v) < 0.1f); /* 100 V / 1900 steps a step */
+}
+
+/* A paced run's deadline in integers: after 2^24 + 3 us exactly 2^24 + 3 steps of 1 us are due
+ * (a float deadline rounds the time to 2^24 + 4 us). */
+static void test_paced_deadline_after_16_s(void **unused)
+{
+    (void)unused;
+    load_paper_waveform(20000);
+    fk.now_us = 1000;
+    uint8_t run[7];
+    ss_put_u32(run, 20000000u);
+    ss_put_u16(&run[4], 60000);
+    run[6] = 1;
+    request(SS_MSG_RUN, run, 7);
+    fk.now_us += 16777219u;
+    uint32_t before;
+    do {
+        before = node.core.run_done;
+        ss_node_serial_poll(&node);
+    } while (node.core.run_done != before);
+    assert_int_equal(node.core.run_done, 16777219u);
 }
 
 static void test_garbage_unknown_and_disconnect(void **unused)
 {
     (void)unused;
-    const ss_actuator_state_f32_t before = node.st;
+    const ss_actuator_state_f32_t before = node.core.st;
     uint8_t junk[300];
     for (int i = 0; i < 300; ++i) {
         junk[i] = (uint8_t)(i * 37 + 11);
@@ -214,8 +277,8 @@ static void test_garbage_unknown_and_disconnect(void **unused)
     junk[100] = 0;
     junk[299] = 0;
     push_bytes(junk, sizeof junk);
-    ss_node_poll(&node);
-    assert_memory_equal(&node.st, &before, sizeof before);
+    ss_node_serial_poll(&node);
+    assert_memory_equal(&node.core.st, &before, sizeof before);
     expect_error(request(0x33, NULL, 0), SS_PERR_UNKNOWN_TYPE, "unknown");
     /* the peer goes away mid-run: the run stops, the node answers the next session */
     uint8_t w[21] = {0};
@@ -231,14 +294,15 @@ static void test_garbage_unknown_and_disconnect(void **unused)
     run[6] = 1;
     request(SS_MSG_RUN, run, 7);
     fk.gone = 1;
-    assert_int_equal(ss_node_poll(&node), -1);
-    assert_int_equal(node.running, 0);
+    assert_int_equal(ss_node_serial_poll(&node), -1);
+    assert_int_equal(node.core.running, 0);
     host_seq = 0;
     assert_int_equal(request(SS_MSG_HELLO, NULL, 0)->type, SS_MSG_HELLO | SS_MSG_REPLY);
 }
 
 /* ---------------------------------------------------------------- the CAN front end */
 
+static ss_node_can_t can_node;
 static ss_can_frame_t can_in[64], can_out[512];
 static size_t can_in_n, can_in_at, can_out_n;
 static int can_gone;
@@ -274,8 +338,8 @@ static int setup_can(void **unused)
     memset(&fk, 0, sizeof fk);
     can_in_n = can_in_at = can_out_n = 0;
     can_gone = 0;
-    memset(&node, 0, sizeof node);
-    ss_node_init_can(&node, &can_port);
+    memset(&can_node, 0, sizeof can_node);
+    ss_node_can_init(&can_node, &can_port);
     return 0;
 }
 
@@ -284,7 +348,7 @@ static ss_can_reply_t can_cmd(uint8_t cmd, uint8_t seq, uint8_t index, uint8_t f
     const ss_can_cmd_t c = {cmd, seq, index, flags, value};
     ss_can_pack_cmd(&c, &can_in[can_in_n++]);
     can_out_n = 0;
-    ss_node_poll_can(&node);
+    ss_node_can_poll(&can_node);
     ss_can_reply_t r;
     memset(&r, 0, sizeof r);
     for (size_t i = 0; i < can_out_n; ++i) {
@@ -340,6 +404,30 @@ static void test_can_commands(void **unused)
     assert_true(r.cmd == SS_CAN_CMD_RUN && r.value == 0.0f);
 }
 
+/* A refusal says why on CAN too: SS_REASON frames before the SS_REPLY, the serial ERROR's text. */
+static void test_can_refusal_sends_its_reason(void **unused)
+{
+    (void)unused;
+    const ss_can_reply_t r = can_cmd(SS_CAN_CMD_SET_PARAM, 1, 6, 0, 0.7f); /* mu_d above mu_s */
+    assert_int_equal(r.status, SS_PERR_OUT_OF_RANGE);
+    char text[64] = {0};
+    size_t len = 0;
+    for (size_t i = 0; i + 1u < can_out_n; ++i) {
+        ss_can_reason_t m;
+        assert_true(ss_can_unpack_reason(&can_out[i], &m));
+        assert_true(m.cmd == SS_CAN_CMD_SET_PARAM && m.seq == 1);
+        for (size_t k = 0; k < SS_CAN_REASON_CHARS && m.text[k] != '\0'; ++k) {
+            text[len++] = m.text[k];
+        }
+    }
+    assert_true(can_out_n >= 2u);
+    assert_int_equal(can_out[can_out_n - 1u].id, SS_CAN_ID_REPLY);
+    assert_string_equal(text, "mu_d: friction.fc_n");
+    /* an accepted command sends no reason */
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_PARAM, 2, 6, 0, 0.3f).status, 0);
+    assert_int_equal(can_out_n, 1);
+}
+
 static void test_can_lockstep_busy_and_traffic(void **unused)
 {
     (void)unused;
@@ -355,7 +443,7 @@ static void test_can_lockstep_busy_and_traffic(void **unused)
     const ss_can_frame_t other = {0x7FF, 2, 0, 0, {1, 2}}; /* someone else's frame on the bus */
     can_in[can_in_n++] = other;
     can_out_n = 0;
-    ss_node_poll_can(&node);
+    ss_node_can_poll(&can_node);
     assert_int_equal(can_out_n, 3); /* one reported state */
     assert_int_equal(ss_get_u32(can_out[0].data), 20);
     assert_true(ss_get_f32(can_out[1].data) == ref.x_rod_m);
@@ -366,30 +454,30 @@ static void test_can_lockstep_busy_and_traffic(void **unused)
     const ss_can_drive_t bad = {NAN, 21, 1};
     ss_can_pack_drive(&bad, &can_in[can_in_n++]);
     can_out_n = 0;
-    ss_node_poll_can(&node);
+    ss_node_can_poll(&can_node);
     ss_can_reply_t r;
     assert_true(ss_can_unpack_reply(&can_out[0], &r) && r.status == SS_PERR_DUPLICATE);
     assert_true(ss_can_unpack_reply(&can_out[1], &r) && r.status == SS_PERR_NON_FINITE);
-    assert_int_equal(node.st.steps, 20);
+    assert_int_equal(can_node.core.st.steps, 20);
     /* during a paced run: drive frames and commands are busy; HELLO stops the run */
     can_cmd(SS_CAN_CMD_SET_WAVE, 40, 0, 0, 500.0f);
     can_cmd(SS_CAN_CMD_LOAD_WAVE, 41, 0, 0, 0.0f);
     can_cmd(SS_CAN_CMD_RUN, 42, 1, 1, 1e6f);
-    assert_int_equal(node.running, 1);
+    assert_int_equal(can_node.core.running, 1);
     const ss_can_drive_t during = {1.0f, 22, 0};
     ss_can_pack_drive(&during, &can_in[can_in_n++]);
     can_out_n = 0;
-    ss_node_poll_can(&node);
+    ss_node_can_poll(&can_node);
     assert_true(ss_can_unpack_reply(&can_out[can_out_n - 1], &r) && r.status == SS_PERR_BUSY);
     assert_int_equal(can_cmd(SS_CAN_CMD_RESET, 43, 0, 0, 0.0f).status, SS_PERR_BUSY);
     fk.now_us += 500;
-    ss_node_poll_can(&node);
-    assert_true(node.run_done > 0);
+    ss_node_can_poll(&can_node);
+    assert_true(can_node.core.run_done > 0);
     r = can_cmd(SS_CAN_CMD_STOP, 44, 0, 0, 0.0f);
     assert_true(r.cmd == SS_CAN_CMD_STOP && r.value > 0.0f);
     /* the bus peer goes away: the session is forgotten, the node serves on */
     can_gone = 1;
-    assert_int_equal(ss_node_poll_can(&node), -1);
+    assert_int_equal(ss_node_can_poll(&can_node), -1);
     assert_int_equal(can_cmd(SS_CAN_CMD_HELLO, 0, 0, 0, 0.0f).cmd, SS_CAN_CMD_HELLO);
 }
 
@@ -401,7 +489,10 @@ int main(void)
         cmocka_unit_test_setup(test_drive_block_lockstep_and_duplicate, setup),
         cmocka_unit_test_setup(test_free_run_paced_busy_stop, setup),
         cmocka_unit_test_setup(test_garbage_unknown_and_disconnect, setup),
+        cmocka_unit_test_setup(test_set_param_then_run_does_not_jump, setup),
+        cmocka_unit_test_setup(test_paced_deadline_after_16_s, setup),
         cmocka_unit_test_setup(test_can_commands, setup_can),
+        cmocka_unit_test_setup(test_can_refusal_sends_its_reason, setup_can),
         cmocka_unit_test_setup(test_can_lockstep_busy_and_traffic, setup_can),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -7,7 +7,8 @@
 
 #include "ss_convert_q.h"
 #include "ss_fake_link.h"
-#include "ss_node.h"
+#include "ss_node_can.h"
+#include "ss_node_serial.h"
 
 #if SS_NODE_VARIANT != 1u
 #error "test_node_q is built with SS_NODE_MODEL_Q"
@@ -15,7 +16,7 @@
 
 static fake_t fk;
 static ss_port_link_t link_ = {&fk, fake_read, fake_write, fake_time};
-static ss_node_t node;
+static ss_node_serial_t node;
 static uint8_t host_seq;
 
 static int setup(void **unused)
@@ -24,7 +25,7 @@ static int setup(void **unused)
     memset(&fk, 0, sizeof fk);
     host_seq = 0;
     memset(&node, 0, sizeof node);
-    ss_node_init(&node, &link_);
+    ss_node_serial_init(&node, &link_);
     return 0;
 }
 
@@ -40,10 +41,10 @@ static const ss_proto_packet_t *request(uint8_t type, const uint8_t *p, size_t n
     assert_true(m > 0u);
     fk.in_n = m;
     while (fk.in_at < fk.in_n) {
-        ss_node_poll(&node); /* the node reads up to 256 bytes a poll */
+        ss_node_serial_poll(&node); /* the node reads up to 256 bytes a poll */
     }
-    for (int i = 0; i < 10 && node.running; ++i) {
-        ss_node_poll(&node); /* an unpaced run ends within a few polls */
+    for (int i = 0; i < 10 && node.core.running; ++i) {
+        ss_node_serial_poll(&node); /* an unpaced run ends within a few polls */
     }
     ss_proto_rx_t rx;
     ss_proto_rx_init(&rx);
@@ -81,7 +82,7 @@ static void test_hello_reports_fixed_point(void **unused)
     assert_int_equal(r->payload[3], 1);                                       /* variant: fixed point */
     assert_true(ss_get_f32(&r->payload[5]) == 1099512.0f / 1099511627776.0f); /* dt_q40 of Table I */
     const ss_actuator_config_q_t t1 = ss_actuator_config_table1_q();
-    assert_memory_equal(&node.cfg, &t1, sizeof t1);
+    assert_memory_equal(&node.core.cfg, &t1, sizeof t1);
 }
 
 /* Volts to Q16.16: floor(v 2^16 + 1/2), saturated, as ss_volts_to_q16. */
@@ -102,7 +103,7 @@ static void test_drive_conversion_rule(void **unused)
         uint8_t p[4];
         ss_put_f32(p, v[i]);
         assert_int_equal(request(SS_MSG_RESET, p, 4)->type, SS_MSG_RESET | SS_MSG_REPLY);
-        assert_int_equal(node.st.drive_q16, q[i]);
+        assert_int_equal(node.core.st.drive_q16, q[i]);
         assert_int_equal(q[i], ss_volts_to_q16((double)v[i]));
     }
 }
@@ -137,7 +138,7 @@ static void test_lockstep_is_the_q_model(void **unused)
             expect_row(&r->payload[7 + (size_t)i * SS_PROTO_ROW_BYTES], &want[i]);
         }
     }
-    assert_memory_equal(&node.st, &ref, sizeof ref);
+    assert_memory_equal(&node.core.st, &ref, sizeof ref);
 }
 
 /* RUN plays the sawtooth the converter makes of the float32 fields (rise 0.95f): the rows are
@@ -200,20 +201,20 @@ static void test_set_param_converts(void **unused)
     f.friction = ss_friction_config_from_mu_f32(0.36f, 0.30f, 12.5f, 4.0e-4f, 1.0e7f, 80.0f, 8.0f);
     ss_actuator_config_q_t want;
     assert_int_equal(ss_actuator_config_to_q(&f, &want, NULL), SS_OK);
-    assert_memory_equal(&node.cfg, &want, sizeof want);
-    const ss_actuator_config_q_t before = node.cfg;
+    assert_memory_equal(&node.core.cfg, &want, sizeof want);
+    const ss_actuator_config_q_t before = node.core.cfg;
     p[0] = 2; /* a rod of 1 ug: the kick dt/(2 M_R) does not fit its format */
     ss_put_f32(&p[1], 1e-9f);
     const ss_proto_packet_t *r = request(SS_MSG_SET_PARAM, p, 5);
     assert_int_equal(r->type, SS_MSG_ERROR);
     assert_int_equal(r->payload[1], SS_PERR_OUT_OF_RANGE);
     assert_memory_equal(&r->payload[3], "rod_mass_kg", 11);
-    assert_memory_equal(&node.cfg, &before, sizeof before);
+    assert_memory_equal(&node.core.cfg, &before, sizeof before);
     /* LuGre through the converter as well */
     p[0] = 12;
     ss_put_f32(&p[1], 1.0f);
     assert_int_equal(request(SS_MSG_SET_PARAM, p, 5)->type, SS_MSG_SET_PARAM | SS_MSG_REPLY);
-    assert_int_equal(node.cfg.friction_model, SS_FRICTION_Q_LUGRE);
+    assert_int_equal(node.core.cfg.friction_model, SS_FRICTION_Q_LUGRE);
 }
 
 int main(void)

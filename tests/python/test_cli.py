@@ -1,5 +1,6 @@
 """The `stickslip` command and the host simulator, as a user runs them."""
 
+import argparse
 import json
 import subprocess
 import sys
@@ -106,3 +107,45 @@ def test_host_simulator_matches_binding(tmp_path):
     assert (
         "usage" in subprocess.run([str(HOST_SIM), "--help"], capture_output=True, text=True).stdout
     )
+
+
+def test_json_means_the_same_on_every_subcommand():
+    # --json [FILE] everywhere: FILE, or stdout when FILE is '-' or omitted
+    from stickslip.cli import build_parser
+
+    def subparsers(p):
+        for action in p._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                for name, sp in action.choices.items():
+                    yield name, sp
+                    yield from subparsers(sp)
+
+    seen = []
+    for name, sp in subparsers(build_parser()):
+        for action in sp._actions:
+            if "--json" in action.option_strings:
+                seen.append(name)
+                assert (action.nargs, action.const, action.default) == ("?", "-", None), name
+    assert set(seen) == {"simulate", "figures", "diagnose", "run", "position", "firmware-q"}
+
+
+def test_json_to_a_file_keeps_the_summary_and_dash_is_stdout(capsys, tmp_path):
+    js = tmp_path / "deep" / "s.json"
+    assert main(["simulate", "--cycles", "2", "--json", str(js)]) == 0
+    out = capsys.readouterr()
+    assert "mean step" in out.out and out.err == ""  # no progress display off a terminal
+    assert json.loads(js.read_text())["per_cycle_steps_m"]
+    assert main(["simulate", "--cycles", "2", "--json", "-"]) == 0
+    assert len(json.loads(capsys.readouterr().out)["per_cycle_steps_m"]) == 2
+
+
+def test_dataset_progress_is_quiet_off_a_terminal(capsys, tmp_path):
+    runs = []
+    for i in range(4):
+        w = Sawtooth(cycles=1, amplitude_v=50.0 + 10 * i)
+        r = simulate(w, decimation=10)
+        runs.append(Run(f"r{i}", tmp_path / f"r{i}.csv", r.t_s, r.drive_v, r.x_slider_m, w))
+    root = write(tmp_path / "ds", ActuatorParams.table1(), runs)
+    assert main(["simulate", "--dataset", str(root)]) == 0
+    out = capsys.readouterr()
+    assert out.err == "" and out.out.count("rmse") == 4

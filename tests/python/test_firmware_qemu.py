@@ -78,7 +78,7 @@ def test_q_firmware_lockstep_is_bit_exact_with_host_q_node(target):
         host_n = rows_of(hc, drive[:801])
         host_info = hc.info
     with QemuNode(target) as q, NodeClient(q.url, timeout_s=20) as c:
-        assert c.info == host_info and c.info.variant == "fixed"
+        assert c.info == host_info and c.info.variant == "q"
         fw = rows_of(c, drive)
         c.set("normal_force_n", 12.5)
         fw_n = rows_of(c, drive[:801])

@@ -41,7 +41,9 @@ def test_lockstep_over_slcan_is_bit_exact(can_node):
     r = simulate(w)
     with CanNodeClient(can_node.url) as c:
         c.reset(float(r.drive_v[0]))
-        tel = c.lockstep(r.drive_v[1:401], decimation=1)
+        seen: list[int] = []
+        tel = c.lockstep(r.drive_v[1:401], decimation=1, progress=seen.append)
+        assert seen == list(range(40, 401, 40))
         assert np.array_equal(tel.step, np.arange(1, 401))
         assert np.array_equal(f32(tel.x_rod_m), f32(r.x_rod_m[1:401]))
         assert np.array_equal(f32(tel.friction_n), f32(r.force_n[1:401]))
@@ -52,9 +54,12 @@ def test_free_run_over_slcan(can_node):
     w = Sawtooth(cycles=1)
     r = simulate(w)
     with CanNodeClient(can_node.url) as c:
+        assert c.info.variant == "f32"
         c.load_waveform(w)
-        tel = c.run(2000, decimation=20)
+        seen: list[int] = []
+        tel = c.run(2000, decimation=20, progress=seen.append)
         assert np.array_equal(tel.step, np.arange(20, 2001, 20))
+        assert seen == list(range(20, 2001, 20))
         assert np.array_equal(f32(tel.x_rod_m), f32(r.x_rod_m[20::20]))
 
 
@@ -134,7 +139,7 @@ def test_fixed_point_node_over_slcan_says_so_and_runs_the_q_model():
     r = simulate(w, variant="q")
     with HostNode("can-tcp", variant="q") as n, CanNodeClient(n.url) as c:
         # HELLO's index carries the variant in its high nibble; a float node's stays 0 (LS)
-        assert c.info.variant == "fixed" and c.info.model == "ls"
+        assert c.info.variant == "q" and c.info.model == "ls"
         assert c.info.dt_s == np.float32(1099512 * 2.0**-40)  # Table I's dt_q40
         c.reset(float(r.drive_v[0]))
         tel = c.lockstep(r.drive_v[1:401], decimation=1)  # Q16.16 drive values: exact in f32

@@ -1,6 +1,7 @@
 """Loopback tests of the stage-model node over its serial link (pty and TCP on 127.0.0.1):
 the same trajectory as the batch simulator, parameters, and every kind of bad input."""
 
+import re
 import socket
 import struct
 import time
@@ -62,13 +63,27 @@ def test_lockstep_is_bit_exact_with_batch(node):
         assert c.stats.lost_frames == 0 and c.stats.duplicate_frames == 0
 
 
+def test_lockstep_tells_progress_per_block(tcp_node):
+    w = Sawtooth(cycles=1)
+    drive = simulate(w).drive_v.astype(np.float32)
+    seen: list[int] = []
+    with NodeClient(tcp_node.url) as c:
+        c.reset(float(drive[0]))
+        c.lockstep(drive[1:101], block=40, progress=seen.append)
+    assert seen == [40, 80, 100]
+
+
 def test_free_run_matches_batch(tcp_node):
     w = Sawtooth(cycles=2)
     r = simulate(w)
     with NodeClient(tcp_node.url) as c:
+        assert c.info.variant == "f32" and c.info.model == "ls"
         c.load_waveform(w)
-        tel = c.run(4000, decimation=10)
+        seen: list[int] = []
+        tel = c.run(4000, decimation=10, progress=seen.append)
         assert np.array_equal(tel.step, np.arange(10, 4001, 10))
+        # progress is told the node's step as telemetry arrives, up to the last row
+        assert seen and seen == sorted(seen) and seen[-1] == 4000
         assert np.array_equal(f32(tel.x_rod_m), f32(r.x_rod_m[10::10]))
         assert np.max(np.abs(tel.x_slider_m - r.x_slider_m[10::10])) < 1e-12
 
@@ -84,16 +99,35 @@ def test_paced_run_keeps_real_time(tcp_node):
         assert 0.095 < wall < 1.0
 
 
+PARAMS_DEF = Path(__file__).resolve().parents[2] / "app" / "ss_node_params.def"
+
+
+def c_param_table() -> list[tuple[str, float, float]]:
+    """The node's parameter table as app/ss_node_params.def writes it: (name, min, max) by id."""
+    entry = re.compile(
+        r'^SS_NODE_PARAM\(\s*\w+\s*,\s*"(\w+)"\s*,.*,\s*([-+.\de]+)f\s*,\s*([-+.\de]+)f\s*\)\s*$'
+    )
+    rows = []
+    for line in PARAMS_DEF.read_text().splitlines():
+        if line.startswith("SS_NODE_PARAM("):
+            m = entry.match(line)
+            assert m, f"unparsed entry: {line}"
+            rows.append((m[1], float(m[2]), float(m[3])))
+    return rows
+
+
+def test_python_parameter_ids_match_the_c_table_entry_by_entry():
+    table = c_param_table()
+    assert len(table) == 13
+    assert [name for name, _, _ in table] == P.PARAM_NAMES
+    for i, (name, lo, hi) in enumerate(table):
+        assert P.PARAM_NAMES.index(name) == i and lo < hi
+
+
 def test_parameters_round_trip_by_name_and_id(tcp_node):
     with NodeClient(tcp_node.url) as c:
         params = c.params()
-        assert list(params)[:5] == [
-            "piezo_stiffness_n_per_m",
-            "piezo_damping_kg_per_s",
-            "rod_mass_kg",
-            "slider_mass_kg",
-            "piezo_gain_m_per_v",
-        ]
+        assert list(params) == P.PARAM_NAMES  # all 13, in id order
         assert c.get("mu_s") == pytest.approx(0.36)
         assert c.set("normal_force_n", 12.5) == 12.5
         assert c.get(7) == 12.5

@@ -1,4 +1,4 @@
-"""The fixed-point node (stickslip_node_q: app/ss_node.c built with SS_NODE_MODEL_Q) over its
+"""The fixed-point node (stickslip_node_q: app/ built with SS_NODE_MODEL_Q) over its
 serial link: the same protocol as stickslip_node, and telemetry that is the host's q model
 converted by the node's rule (docs/protocol.md), bit for bit."""
 
@@ -26,7 +26,7 @@ def assert_same(tel: Telemetry, want: Telemetry) -> None:
 
 def test_hello_says_fixed_point(node):
     with NodeClient(node.url) as c:
-        assert c.info.variant == "fixed" and c.info.model == "ls"
+        assert c.info.variant == "q" and c.info.model == "ls"
         assert c.info.dt_s == np.float32(1099512 * 2.0**-40)  # Table I's dt_q40
         assert c.get("sigma0_n_per_m") == 1e7
 
@@ -85,7 +85,7 @@ def test_hil_run_command_starts_the_fixed_point_node(tmp_path, capsys):
         == 0
     )
     s = json.loads(capsys.readouterr().out)
-    assert s["node"]["variant"] == "fixed" and s["link"]["lost_frames"] == 0
+    assert s["node"]["variant"] == "q" and s["link"]["lost_frames"] == 0
     run = D.load(out).runs[0]
     r = simulate(run.waveform, variant="q")
     # row for row: the q node's step is Table I's dt_q40 (1.00000034 us), not 1 us

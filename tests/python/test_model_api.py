@@ -1,6 +1,8 @@
 """The Python API over the C core: validation, errors that say what is wrong, determinism."""
 
 import math
+import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -8,12 +10,33 @@ import pytest
 from stickslip import _native as N
 from stickslip.model import ActuatorParams, Sawtooth, friction_response, simulate
 
+ROOT = Path(__file__).resolve().parents[2]
+HOST_SIM = ROOT / "build" / "host" / "host_sim" / "stickslip_sim"
 
+
+@pytest.mark.skipif(not HOST_SIM.exists(), reason="host build missing (cmake --preset host)")
 def test_binding_runs_the_same_code_as_the_host_simulator_default():
-    # two runs, bit for bit the same
+    # the host simulator's CSV for the paper's drive, printed as it prints (float32 values with 7
+    # digits, the slider and time with 9), is the binding's run to the last printed digit
     a = simulate(Sawtooth(cycles=3))
-    b = simulate(Sawtooth(cycles=3))
-    assert np.array_equal(a.x_slider_m, b.x_slider_m)
+    out = subprocess.run(
+        [str(HOST_SIM), "--cycles", "3"], capture_output=True, text=True, check=True
+    ).stdout.splitlines()
+    assert out[0] == "t_s,drive_v,x_p_m,x_rod_m,x_slider_m,friction_n,level_n,presliding_n"
+    csv = [line.split(",") for line in out[1:]]
+    assert len(csv) == len(a.t_s) == 3 * 2000 + 1
+    columns = [
+        (a.t_s, "%.9g"),
+        (a.drive_v, "%.7g"),
+        (a.x_p_m, "%.7g"),
+        (a.x_rod_m, "%.7g"),
+        (a.x_slider_m, "%.9g"),
+        (a.force_n, "%.7g"),
+        (a.state_a, "%.7g"),
+        (a.state_b, "%.7g"),
+    ]
+    for i, (values, fmt) in enumerate(columns):
+        assert [fmt % v for v in values] == [row[i] for row in csv], out[0].split(",")[i]
 
 
 @pytest.mark.parametrize(
@@ -65,3 +88,54 @@ def test_friction_response_rejects_nan_path():
     x[5] = np.nan
     with pytest.raises(N.NativeError, match="non-finite"):
         friction_response(x, 1e-6)
+
+
+def test_table1_and_the_paper_drive_are_the_c_library_s():
+    # the defaults are read from the C library; in float32 they are its values field by field
+    p = ActuatorParams.table1()
+    assert p == ActuatorParams()
+    cfg, c = p.actuator_config(), N.table1_actuator()
+    for name, _ in N.ActuatorConfig._fields_:
+        if name not in ("friction", "effects"):
+            assert getattr(cfg, name) == getattr(c, name), name
+    for name, _ in N.FrictionConfig._fields_:
+        assert getattr(cfg.friction, name) == getattr(c.friction, name), name
+    for name, _ in N.EffectsConfig._fields_:
+        assert getattr(cfg.effects, name) == getattr(c.effects, name) == 0.0, name
+    mu = N.table1_friction_mu()
+    for name, _ in N.FrictionMu._fields_:
+        field = {"vs_m_per_s": "stribeck_velocity_m_per_s"}.get(name, name)
+        assert np.float32(getattr(p, field)) == getattr(mu, name), name
+    # ... and as written in C: the shortest decimals, so JSON and datasets keep 0.36, not 0.36000001
+    assert (p.mu_s, p.mu_d, p.normal_force_n, p.piezo_gain_m_per_v) == (0.36, 0.30, 10.0, 4.4e-8)
+    w, cw = Sawtooth().config(), N.paper_sawtooth()
+    for name in ("kind", "frequency_hz", "amplitude_v", "offset_v", "rise_fraction"):
+        assert getattr(w, name) == getattr(cw, name), name
+    assert (w.direction, w.cycles) == (cw.direction, cw.cycles)
+    d = Sawtooth()
+    assert (d.frequency_hz, d.amplitude_v, d.rise_fraction, d.cycles) == (500.0, 100.0, 0.95, 20)
+
+
+def test_q_formats_come_from_the_library():
+    # ss_qformat.h through ss_abi_qformat: every trace column and both states of each q law
+    for col in N.TRACE_Q_COLUMNS:
+        if col not in ("step", "state_a", "state_b"):
+            assert col in N.Q_SHIFTS, col
+            assert N.Q_SHIFTS[col] == int(col.rsplit("_q", 1)[1])  # the name carries its format
+    for law in N.TRACE_Q_STATES.values():
+        assert all(s in N.Q_SHIFTS for s in law)
+    assert N.q_scale("x_slider_q40") == 2.0**-40 and N.q_scale("drive_q16") == 2.0**-16
+    with pytest.raises(KeyError):
+        N.q_scale("no_such_signal")
+
+
+def test_only_the_binding_imports_ctypes():
+    import stickslip
+
+    root = Path(stickslip.__file__).parent
+    users = [
+        str(f.relative_to(root))
+        for f in root.rglob("*.py")
+        if "ctypes" in f.read_text() and f.name != "_native.py"
+    ]
+    assert users == []

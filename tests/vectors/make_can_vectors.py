@@ -21,6 +21,7 @@ CASES = [
     ("SS_CMD", {"cmd": 7, "seq": 255, "index": 10, "flags": 1, "value": 123456.0}),
     ("SS_REPLY", {"cmd": 1, "seq": 0, "status": 0, "index": 1, "value": 1e-6}),
     ("SS_REPLY", {"cmd": 3, "seq": 9, "status": 5, "index": 6, "value": -2.5}),
+    ("SS_REASON", {"cmd": 3, "seq": 9, "text": int.from_bytes(b"mu_d: ", "little")}),
     ("SS_DRIVE", {"drive_v": 12.5, "seq": 3, "report": 1}),
     ("SS_DRIVE", {"drive_v": -99.75, "seq": 200, "report": 0}),
     ("SS_STATE_A", {"step": 4000000000, "drive_v": 100.0}),

@@ -12,9 +12,17 @@ import can
 import cantools
 import numpy as np
 
-from ..model import Sawtooth
+from ..model import VARIANTS, Sawtooth
 from . import protocol as P
-from .client import LinkStats, LinkTimeoutError, NodeError, NodeInfo, ParamInfo, Telemetry
+from .node import (
+    LinkStats,
+    LinkTimeoutError,
+    NodeError,
+    NodeInfo,
+    ParamInfo,
+    StepProgress,
+    Telemetry,
+)
 
 DBC_PATH = Path(__file__).with_name("stickslip.dbc")
 CMD = {
@@ -39,7 +47,7 @@ def load_dbc() -> cantools.database.can.Database:
 
 
 class CanNodeClient:
-    """A session with a node over CAN. Same interface as NodeClient (serial)."""
+    """A session with a node over CAN: a node.NodeSession, as NodeClient (serial) is."""
 
     def __init__(
         self, channel: str, interface: str = "slcan", timeout_s: float = 2.0, **bus_kwargs
@@ -93,6 +101,7 @@ class CanNodeClient:
         value: float = 0.0,
         timeout_s: float | None = None,
         states: list | None = None,
+        progress: StepProgress = None,
     ) -> dict:
         seq = self.seq
         self.seq = (self.seq + 1) & 0xFF
@@ -113,6 +122,8 @@ class CanNodeClient:
                 if name == "SS_STATE_C":
                     states.append(_row(pending))
                     pending = {}
+                    if progress is not None:
+                        progress(int(states[-1][0]))
             elif name == "SS_REPLY" and sig["seq"] == seq and sig["cmd"] == CMD[cmd]:
                 if sig["status"]:
                     raise NodeError(sig["status"], CMD[cmd], f"{cmd} index {sig['index']}")
@@ -125,7 +136,7 @@ class CanNodeClient:
         return NodeInfo(
             1,
             ("ls", "lugre")[model],
-            ("float32", "fixed")[variant],
+            VARIANTS[variant],
             len(P.PARAM_NAMES),
             r["value"],
             "can",
@@ -159,8 +170,15 @@ class CanNodeClient:
             self.request("SET_WAVE", index=i, value=float(getattr(w, f)))
         self.request("LOAD_WAVE")
 
-    def lockstep(self, drive_v: np.ndarray, block: int = 40, decimation: int = 1) -> Telemetry:
-        """One SS_DRIVE frame per step, `block` frames in flight; a state every decimation steps."""
+    def lockstep(
+        self,
+        drive_v: np.ndarray,
+        block: int = 40,
+        decimation: int = 1,
+        progress: StepProgress = None,
+    ) -> Telemetry:
+        """One SS_DRIVE frame per step, `block` frames in flight; a state every decimation steps;
+        progress (if given) is told the steps done after each block."""
         rows: list[tuple] = []
         pending: dict = {}
         n = len(drive_v)
@@ -190,10 +208,17 @@ class CanNodeClient:
                     if name == "SS_STATE_C":
                         rows.append(_row(pending))
                         pending = {}
+            if progress is not None:
+                progress(end)
         return Telemetry.from_rows(rows)
 
     def run(
-        self, steps: int, decimation: int = 1, paced: bool = False, timeout_s: float | None = None
+        self,
+        steps: int,
+        decimation: int = 1,
+        paced: bool = False,
+        timeout_s: float | None = None,
+        progress: StepProgress = None,
     ) -> Telemetry:
         if not 1 <= decimation <= 255:
             raise ValueError(f"decimation over CAN is 1..255, got {decimation}")
@@ -209,6 +234,7 @@ class CanNodeClient:
             value=float(steps),
             timeout_s=budget,
             states=rows,
+            progress=progress,
         )
         if int(r["value"]) != steps:
             raise RuntimeError(f"run ended after {int(r['value'])} of {steps} steps")

@@ -12,98 +12,22 @@ import struct
 import subprocess
 import time
 from collections import deque
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import serial
 
-from ..model import Sawtooth, SimResult
+from ..model import VARIANTS, Sawtooth
 from . import protocol as P
-
-
-class NodeError(RuntimeError):
-    """The node refused a request; `name` is the protocol's error name."""
-
-    def __init__(self, code: int, request_type: int, reason: str):
-        self.code, self.request_type, self.reason = code, request_type, reason
-        self.name = P.ERROR_NAMES.get(code, f"error_{code}")
-        super().__init__(f"node refused request 0x{request_type:02x}: {self.name}: {reason}")
-
-
-class LinkTimeoutError(TimeoutError):
-    """No reply in time: the request or its reply was lost."""
-
-
-@dataclass(frozen=True)
-class NodeInfo:
-    protocol: int
-    model: str
-    variant: str
-    n_params: int
-    dt_s: float
-    version: str
-
-
-@dataclass(frozen=True)
-class ParamInfo:
-    id: int
-    name: str
-    value: float
-    min: float
-    max: float
-
-
-@dataclass
-class Telemetry:
-    """Rows of the node's state: SI units, slider position summed in double."""
-
-    step: np.ndarray
-    drive_v: np.ndarray
-    x_rod_m: np.ndarray
-    x_slider_m: np.ndarray
-    friction_n: np.ndarray
-
-    @classmethod
-    def from_rows(cls, rows: list[tuple]) -> Telemetry:
-        a = np.array(rows, dtype=np.float64).reshape(-1, 6)
-        hi = np.array([r[3] for r in rows], dtype=np.float32).astype(np.float64)
-        lo = np.array([r[4] for r in rows], dtype=np.float32).astype(np.float64)
-        return cls(a[:, 0].astype(np.int64), a[:, 1], a[:, 2], hi + lo, a[:, 5])
-
-    @classmethod
-    def from_q_result(cls, r: SimResult, rows: slice = slice(1, None)) -> Telemetry:
-        """What a fixed-point node (stickslip_node_q, stickslip_fw_q.elf) sends for the q model's
-        states r (simulate(..., variant="q")), by the node's rule (docs/protocol.md): each
-        integer to float32 (nearest, ties to even), times its power of two; the slider as
-        hi = f32(x), lo = f32(x - hi). Exact for |x_slider| < 2^53 LSB, where int -> float64 ->
-        float32 rounds once."""
-
-        def ints(v: np.ndarray, scale: float) -> np.ndarray:
-            return np.round(v[rows] * scale).astype(np.int64)  # exact: the values are k 2^-n
-
-        def f32(q: np.ndarray, bits: int) -> np.ndarray:
-            return q.astype(np.float64).astype(np.float32) * np.float32(2.0**-bits)
-
-        x = ints(r.x_slider_m, 2.0**40)
-        hi = x.astype(np.float64).astype(np.float32)
-        lo = f32(x - hi.astype(np.int64), 40)
-        hi = hi * np.float32(2.0**-40)
-        return cls(
-            np.round(r.t_s[rows] / r.dt_s).astype(np.int64),
-            f32(ints(r.drive_v, 2.0**16), 16).astype(np.float64),
-            f32(ints(r.x_rod_m, 2.0**40), 40).astype(np.float64),
-            hi.astype(np.float64) + lo.astype(np.float64),
-            f32(ints(r.force_n, 2.0**24), 24).astype(np.float64),
-        )
-
-
-@dataclass
-class LinkStats:
-    frames_in: int = 0
-    lost_frames: int = 0  # gaps in the node's frame counter
-    duplicate_frames: int = 0
-    bad_frames: list[str] = field(default_factory=list)
+from .node import (
+    LinkStats,
+    LinkTimeoutError,
+    NodeError,
+    NodeInfo,
+    ParamInfo,
+    StepProgress,
+    Telemetry,
+)
 
 
 def _rows(payload: bytes, offset: int) -> tuple[int, list[tuple]]:
@@ -126,6 +50,7 @@ class NodeClient:
         self._node_seq: int | None = None
         self._inbox: deque[P.Packet] = deque()
         self.telemetry: list[tuple] = []
+        self._run_progress: StepProgress = None  # told the last step of each telemetry frame
         if handshake:
             self.info = self.hello()
 
@@ -204,7 +129,10 @@ class NodeClient:
                     "the request or its reply was lost"
                 ) from None
             if pkt.type == P.TELEMETRY:
-                self.telemetry.extend(_rows(pkt.payload, 1)[1])
+                rows = _rows(pkt.payload, 1)[1]
+                self.telemetry.extend(rows)
+                if rows and self._run_progress is not None:
+                    self._run_progress(int(rows[-1][0]))
             elif pkt.type == P.ERROR and pkt.payload[0] == seq:
                 reason = pkt.payload[3:].decode(errors="replace")
                 raise NodeError(pkt.payload[1], pkt.payload[2], reason)
@@ -220,9 +148,7 @@ class NodeClient:
         self._node_seq = None  # a new session
         b = self.request(P.HELLO)
         ver, model, variant, n, dt = struct.unpack_from("<BBBBf", b)
-        return NodeInfo(
-            ver, ("ls", "lugre")[model], ("float32", "fixed")[variant], n, dt, b[8:].decode()
-        )
+        return NodeInfo(ver, ("ls", "lugre")[model], VARIANTS[variant], n, dt, b[8:].decode())
 
     def param_info(self, pid: int) -> ParamInfo:
         b = self.request(P.PARAM_INFO, bytes([pid]))
@@ -265,26 +191,45 @@ class NodeClient:
         payload = struct.pack("<H", decimation) + np.asarray(drive_v, "<f4").tobytes()
         return _rows(self.request(P.DRIVE_BLOCK, payload), 0)[1]
 
-    def lockstep(self, drive_v: np.ndarray, block: int = 40, decimation: int = 1) -> Telemetry:
-        """Co-simulate: send the drive (one sample per step) in blocks, collect the states."""
+    def lockstep(
+        self,
+        drive_v: np.ndarray,
+        block: int = 40,
+        decimation: int = 1,
+        progress: StepProgress = None,
+    ) -> Telemetry:
+        """Co-simulate: send the drive (one sample per step) in blocks, collect the states;
+        progress (if given) is told the steps done after each block."""
         if block % decimation:
             raise ValueError("block must be a multiple of decimation")
         rows: list[tuple] = []
         for i in range(0, len(drive_v), block):
             rows += self.drive_block(drive_v[i : i + block], decimation)
+            if progress is not None:
+                progress(min(i + block, len(drive_v)))
         return Telemetry.from_rows(rows)
 
     def run(
-        self, steps: int, decimation: int = 1, paced: bool = False, timeout_s: float | None = None
+        self,
+        steps: int,
+        decimation: int = 1,
+        paced: bool = False,
+        timeout_s: float | None = None,
+        progress: StepProgress = None,
     ) -> Telemetry:
-        """Free run of the loaded waveform; telemetry until the node reports the run done."""
+        """Free run of the loaded waveform; telemetry until the node reports the run done;
+        progress (if given) is told the node's step as telemetry arrives."""
         self.telemetry = []
         budget = timeout_s or max(
             self.timeout_s, 5.0 + steps * self.info.dt_s * (1.5 if paced else 0.2)
         )
-        b = self.request(
-            P.RUN, struct.pack("<IHB", steps, decimation, int(paced)), timeout_s=budget
-        )
+        self._run_progress = progress
+        try:
+            b = self.request(
+                P.RUN, struct.pack("<IHB", steps, decimation, int(paced)), timeout_s=budget
+            )
+        finally:
+            self._run_progress = None
         (done,) = struct.unpack_from("<I", b)
         if done != steps:
             raise RuntimeError(f"run ended after {done} of {steps} steps")

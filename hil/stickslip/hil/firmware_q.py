@@ -5,19 +5,19 @@ with the host's q core."""
 from __future__ import annotations
 
 import subprocess
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from .. import _native as N
-from ..model import ActuatorParams, Sawtooth, simulate
+from ..model import DT_S, ActuatorParams, Sawtooth, simulate
 from .client import firmware_elf
 
 CYCLES = 6  # as main_q_cortex_m.c
 EVERY = 100
-STEPS_PER_CYCLE = 2000  # 500 Hz at 1 us
-WAVEFORM = Sawtooth(500.0, 100.0, 0.0, 0.95, 1, CYCLES)
+WAVEFORM = replace(Sawtooth(), cycles=CYCLES)  # the paper's drive, CYCLES periods
+STEPS_PER_CYCLE = round(WAVEFORM.period_s / DT_S)  # 2000: 500 Hz at Table I's 1 us
 PRESETS = ("cortex-m0plus", "cortex-m3", "cortex-m4f")
 
 
@@ -36,7 +36,7 @@ class QFirmwareRun:
     def steps_m(self) -> np.ndarray:
         """Slider travel over each period (m)."""
         ends = self.rows[:: STEPS_PER_CYCLE // EVERY, 1]
-        return np.diff(ends) * 2.0**-40
+        return np.diff(ends) * N.q_scale("x_slider_q40")
 
 
 def run_q_firmware(elf: Path, timeout_s: float = 60.0) -> QFirmwareRun:
@@ -66,12 +66,12 @@ def run_q_firmware(elf: Path, timeout_s: float = 60.0) -> QFirmwareRun:
 
 def host_reference() -> tuple[dict[str, int], np.ndarray]:
     """What the firmware must send: the host converter's configs and the host q core's rows."""
-    cq, wq = N.to_q(ActuatorParams.table1().actuator_config("ls", 1e-6), WAVEFORM.config())
+    cq, wq = N.to_q(ActuatorParams.table1().actuator_config("ls", DT_S), WAVEFORM.config())
     header = {"dt_q40": cq.dt_q40, "steps": CYCLES * STEPS_PER_CYCLE, "every": EVERY}
     for name in ("frequency_mhz", "amplitude_q16", "offset_q16", "rise_q32", "direction", "cycles"):
         header[name] = getattr(wq, name)
     r = simulate(WAVEFORM, variant="q", decimation=EVERY)
     # x_slider_m is x_slider_q40 * 2^-40 in float64, exact below 2^53 LSB: rounding recovers them
     steps = np.round(r.t_s / r.dt_s).astype(np.int64)
-    x = np.round(r.x_slider_m * 2.0**40).astype(np.int64)
+    x = np.round(r.x_slider_m / N.q_scale("x_slider_q40")).astype(np.int64)
     return header, np.column_stack([steps, x])

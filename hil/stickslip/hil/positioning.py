@@ -4,11 +4,12 @@ sticks to the rod while the voltage changes slowly), both on the slider-position
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..model import Sawtooth, drive_samples
+from .node import NodeSession
 
 
 @dataclass
@@ -33,7 +34,7 @@ class PositioningResult:
 
 
 def position(
-    client,
+    client: NodeSession,
     target_m: float,
     tolerance_m: float = 5e-9,
     stroke_v: float = 100.0,
@@ -44,7 +45,7 @@ def position(
     gain_per_s: float = 500.0,
     hold_s: float = 2e-3,
 ) -> PositioningResult:
-    """Drive the slider of the node behind `client` (NodeClient or CanNodeClient) to target_m
+    """Drive the slider of the node behind `client` (a NodeSession: serial or CAN) to target_m
     (relative to where it is at the start). Coarse: whole sawtooth periods (forward or backward)
     until the target lies inside the piezo stroke ahead of the slider, with a margin. Fine: the
     voltage follows dV/dt = gain * error / piezo_gain, slew-limited so the slider sticks, updated
@@ -72,7 +73,15 @@ def position(
         err = target_m - x
         if margin <= err <= stroke_m - margin:
             break
-        w = Sawtooth(frequency_hz, stroke_v, 0.0, 0.95, 1 if err > 0 else -1, 1)
+        # one period of the paper's drive shape (its rise fraction) at this stroke and rate
+        w = replace(
+            Sawtooth(),
+            frequency_hz=frequency_hz,
+            amplitude_v=stroke_v,
+            offset_v=0.0,
+            direction=1 if err > 0 else -1,
+            cycles=1,
+        )
         play(drive_samples(w, dt, int(round(w.period_s / dt)))[1:])
         coarse += 1
     # let the contact ring down before the fine loop reads the position

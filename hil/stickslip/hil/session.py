@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 
 from .. import dataset as D
-from ..model import ActuatorParams, Sawtooth, drive_samples, simulate
-from .client import NodeClient, Telemetry
+from ..model import DT_S, ActuatorParams, Sawtooth, drive_samples, simulate
+from .node import NodeSession, StepProgress, Telemetry
 
 
 @dataclass
@@ -46,19 +46,19 @@ class HilRun:
         return float(np.mean(np.diff(np.interp(k, t["t_s"], t["x_m"]))))
 
 
-def node_params(client: NodeClient) -> ActuatorParams:
+def node_params(client: NodeSession) -> ActuatorParams:
     values = {name: p.value for name, p in client.params().items() if name != "friction_model"}
     return ActuatorParams.from_dict(values, "node parameters")
 
 
-def lockstep_drive(w: Sawtooth, dt_s: float, steps: int, variant: str = "float32") -> np.ndarray:
+def lockstep_drive(w: Sawtooth, dt_s: float, steps: int, variant: str = "f32") -> np.ndarray:
     """The drive at t = 0 and after each of `steps` steps, float32. For a fixed-point node
-    (variant "fixed") the q player's Q16.16 samples, exact in float32 below 256 V, so the node's
+    (variant "q") the q player's Q16.16 samples, exact in float32 below 256 V, so the node's
     conversion back to Q16.16 gives the q model's own drive."""
-    if variant != "fixed":
+    if variant != "q":
         return drive_samples(w, dt_s, steps)
     # the node's step is Table I's (1 us as dt_q40; dt_s reports it as 1.0000003 us)
-    hold_s = max(0, steps - int(round(w.duration_s / 1e-6))) * 1e-6
+    hold_s = max(0, steps - int(round(w.duration_s / DT_S))) * DT_S
     drive = simulate(w, variant="q", hold_s=hold_s).drive_v[: steps + 1]
     if len(drive) != steps + 1:
         raise ValueError(f"q drive: {len(drive) - 1} steps, not {steps}")
@@ -66,15 +66,17 @@ def lockstep_drive(w: Sawtooth, dt_s: float, steps: int, variant: str = "float32
 
 
 def play(
-    client: NodeClient,
+    client: NodeSession,
     w: Sawtooth,
     mode: str = "lockstep",
     decimation: int = 1,
     paced: bool = False,
+    progress: StepProgress = None,
 ) -> HilRun:
     """Play w through the node. lockstep: the drive is generated here (the sawtooth of the C
     library, one sample per step: the float32 player, or the q player for a fixed-point node) and
-    sent in blocks; free: the node plays it itself."""
+    sent in blocks; free: the node plays it itself. progress (if given) is told the steps done
+    as the run goes."""
     dt = client.info.dt_s
     steps = int(round(w.duration_s / dt))
     if mode == "lockstep":
@@ -82,11 +84,13 @@ def play(
         block = max(decimation, (40 // decimation) * decimation)
         client.reset(float(drive[0]))
         t0 = time.perf_counter()
-        tel = client.lockstep(drive[1 : steps + 1], block=block, decimation=decimation)
+        tel = client.lockstep(
+            drive[1 : steps + 1], block=block, decimation=decimation, progress=progress
+        )
     elif mode == "free":
         client.load_waveform(w)
         t0 = time.perf_counter()
-        tel = client.run(steps, decimation, paced)
+        tel = client.run(steps, decimation, paced, progress=progress)
     else:
         raise ValueError(f"mode must be lockstep or free, got {mode!r}")
     wall = time.perf_counter() - t0
@@ -110,7 +114,7 @@ def record(run: HilRun, params: ActuatorParams, out: str | Path, run_id: str = "
     return D.write(out, params, [r], desc)
 
 
-def summary(run: HilRun, client: NodeClient) -> dict:
+def summary(run: HilRun, client: NodeSession) -> dict:
     return {
         "mode": run.mode,
         "url": client.url,

@@ -1,0 +1,284 @@
+/* The node's core (ss_node_core.h): one set of rules for every front end. */
+#include "ss_node_core.h"
+
+#include <math.h>
+
+static const ss_node_param_def_t PARAMS[SS_NODE_N_PARAMS] = {
+#define SS_NODE_PARAM(tag, name, def, min, max) {name, min, max},
+#include "ss_node_params.def"
+#undef SS_NODE_PARAM
+};
+
+/* Table I as the parameter table's defaults: from the library, never written out here. */
+static void params_table1(ss_node_params_t *p)
+{
+    const ss_actuator_config_f32_t act = ss_actuator_config_table1_f32();
+    const ss_friction_mu_f32_t mu = ss_friction_mu_table1_f32();
+    uint32_t i = 0;
+#define SS_NODE_PARAM(tag, name, def, min, max) p->value[i++] = (def);
+#include "ss_node_params.def"
+#undef SS_NODE_PARAM
+}
+
+static ss_actuator_config_f32_t config_from(const ss_node_params_t *p)
+{
+    ss_actuator_config_f32_t c = ss_actuator_config_table1_f32();
+    const float *v = p->value;
+    c.piezo_stiffness_n_per_m = v[SS_NODE_P_K];
+    c.piezo_damping_kg_per_s = v[SS_NODE_P_C];
+    c.rod_mass_kg = v[SS_NODE_P_MR];
+    c.slider_mass_kg = v[SS_NODE_P_MC];
+    c.piezo_gain_m_per_v = v[SS_NODE_P_GAIN];
+    c.friction_model = (v[SS_NODE_P_MODEL] != 0.0f) ? SS_FRICTION_LUGRE : SS_FRICTION_LS;
+    c.friction =
+        ss_friction_config_from_mu_f32(v[SS_NODE_P_MUS], v[SS_NODE_P_MUD], v[SS_NODE_P_N], v[SS_NODE_P_VS],
+                                       v[SS_NODE_P_S0], v[SS_NODE_P_S1], v[SS_NODE_P_S2]);
+    return c;
+}
+
+const ss_node_param_def_t *ss_node_core_param_def(uint32_t id)
+{
+    return (id < SS_NODE_N_PARAMS) ? &PARAMS[id] : 0;
+}
+
+int ss_node_core_param_id(const uint8_t *name, size_t len, uint32_t *id)
+{
+    for (uint32_t i = 0; i < SS_NODE_N_PARAMS; ++i) {
+        const char *s = PARAMS[i].name;
+        size_t k = 0;
+        while (k < len && s[k] != '\0' && (uint8_t)s[k] == name[k]) {
+            ++k;
+        }
+        if (k == len && s[k] == '\0') {
+            *id = i;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static ss_proto_error_t refuse(ss_node_refusal_t *why, ss_proto_error_t e, const char *what,
+                               const char *because)
+{
+    why->what = what;
+    why->why = because;
+    return e;
+}
+
+static ss_proto_error_t from_status(ss_status_t st)
+{
+    return (st == SS_ERR_NONFINITE) ? SS_PERR_NON_FINITE : SS_PERR_OUT_OF_RANGE;
+}
+
+/* ------------------------------------------------------------------ the model at rest */
+
+static void rest(ss_node_core_t *c, ss_node_drive_t drive0)
+{
+    ss_node_model_init(&c->cfg, &c->st, drive0);
+    if (c->wave_loaded) {
+        (void)ss_node_model_wave_init(&c->cfg, &c->wave, &c->wst);
+    }
+}
+
+/* At rest where the next RUN starts: the loaded waveform at t = 0 (0 V without one). */
+static void rest_at_wave_start(ss_node_core_t *c)
+{
+    if (c->wave_loaded) {
+        (void)ss_node_model_wave_init(&c->cfg, &c->wave, &c->wst);
+        ss_node_model_init(&c->cfg, &c->st, ss_node_model_wave_value(&c->wave, &c->wst));
+    } else {
+        ss_node_model_init(&c->cfg, &c->st, ss_node_model_drive_from_v(0.0f));
+    }
+}
+
+void ss_node_core_session_reset(ss_node_core_t *c)
+{
+    c->have_last = 0;
+    c->running = 0;
+}
+
+void ss_node_core_init(ss_node_core_t *c)
+{
+    params_table1(&c->params);
+    c->cfg = ss_node_model_default_config(); /* what config_from(the defaults) gives */
+    c->wave_loaded = 0;
+    rest(c, ss_node_model_drive_from_v(0.0f));
+    ss_node_core_session_reset(c);
+}
+
+/* ------------------------------------------------------------------ the session */
+
+void ss_node_core_hello(ss_node_core_t *c, uint8_t seq)
+{
+    c->running = 0; /* a new session stops whatever the last one left running */
+    c->have_last = 1;
+    c->last_seq = seq;
+}
+
+ss_proto_error_t ss_node_core_admit(ss_node_core_t *c, uint8_t seq, int is_stop, ss_node_refusal_t *why)
+{
+    if (c->have_last && seq == c->last_seq) {
+        return refuse(why, SS_PERR_DUPLICATE, "same seq as the last request, not executed again", "");
+    }
+    c->have_last = 1;
+    c->last_seq = seq;
+    if (c->running && !is_stop) {
+        return refuse(why, SS_PERR_BUSY, "a run is in progress: STOP or HELLO first", "");
+    }
+    return SS_PERR_NONE;
+}
+
+/* ------------------------------------------------------------------ requests */
+
+ss_proto_error_t ss_node_core_get_param(const ss_node_core_t *c, uint32_t id, float *value,
+                                        ss_node_refusal_t *why)
+{
+    if (id >= SS_NODE_N_PARAMS) {
+        return refuse(why, SS_PERR_UNKNOWN_PARAM, "no parameter with that id", "");
+    }
+    *value = c->params.value[id];
+    return SS_PERR_NONE;
+}
+
+ss_proto_error_t ss_node_core_set_param(ss_node_core_t *c, uint32_t id, float v, ss_node_refusal_t *why)
+{
+    if (id >= SS_NODE_N_PARAMS) {
+        return refuse(why, SS_PERR_UNKNOWN_PARAM, "no parameter with that id", "");
+    }
+    if (!isfinite(v)) {
+        return refuse(why, SS_PERR_NON_FINITE, PARAMS[id].name, "not a finite number");
+    }
+    if (v < PARAMS[id].min || v > PARAMS[id].max || (id == SS_NODE_P_MODEL && v != 0.0f && v != 1.0f)) {
+        return refuse(why, SS_PERR_OUT_OF_RANGE, PARAMS[id].name, "outside its range");
+    }
+    ss_node_params_t next = c->params;
+    next.value[id] = v;
+    const ss_actuator_config_f32_t f = config_from(&next);
+    ss_node_config_t cfg;
+    const char *field = "";
+    const ss_status_t st = ss_node_model_config(&f, &cfg, &field);
+    if (st != SS_OK) {
+        return refuse(why, from_status(st), PARAMS[id].name, field);
+    }
+    c->params = next;
+    c->cfg = cfg;
+    rest_at_wave_start(c); /* a new parameter set starts a new experiment */
+    return SS_PERR_NONE;
+}
+
+ss_proto_error_t ss_node_core_reset(ss_node_core_t *c, float drive0_v, ss_node_refusal_t *why)
+{
+    if (!isfinite(drive0_v)) {
+        return refuse(why, SS_PERR_NON_FINITE, "drive0_v", "not a finite number");
+    }
+    if (fabsf(drive0_v) > SS_NODE_MAX_DRIVE_V) {
+        return refuse(why, SS_PERR_OUT_OF_RANGE, "drive0_v", "outside " SS_NODE_MAX_DRIVE_V_TEXT);
+    }
+    rest(c, ss_node_model_drive_from_v(drive0_v));
+    return SS_PERR_NONE;
+}
+
+ss_proto_error_t ss_node_core_load_waveform(ss_node_core_t *c, const ss_waveform_config_f32_t *w,
+                                            ss_node_refusal_t *why)
+{
+    ss_node_wave_t wm;
+    ss_node_wave_state_t ws;
+    const char *reason = "";
+    ss_status_t st = ss_node_model_wave_convert(w, &wm, &reason);
+    if (st == SS_OK) {
+        st = ss_node_model_wave_init(&c->cfg, &wm, &ws);
+        reason = ss_status_str(st);
+    }
+    if (st != SS_OK) {
+        return refuse(why, from_status(st), "waveform", reason);
+    }
+    c->wave = wm;
+    c->wave_loaded = 1;
+    rest_at_wave_start(c);
+    return SS_PERR_NONE;
+}
+
+ss_proto_error_t ss_node_core_drive(ss_node_core_t *c, float drive_v)
+{
+    if (!isfinite(drive_v)) {
+        return SS_PERR_NON_FINITE;
+    }
+    ss_node_model_step(&c->cfg, &c->st, ss_node_model_drive_from_v(drive_v));
+    return SS_PERR_NONE;
+}
+
+ss_node_row_t ss_node_core_row(const ss_node_core_t *c)
+{
+    return ss_node_model_row(&c->st);
+}
+
+/* ------------------------------------------------------------------ the free run */
+
+static void end_run(ss_node_core_t *c, uint8_t req, uint8_t ref_seq, const ss_node_run_sink_t *sink)
+{
+    c->running = 0;
+    sink->end(sink->ctx, req, ref_seq, c->run_done);
+}
+
+ss_proto_error_t ss_node_core_run(ss_node_core_t *c, uint8_t seq, uint32_t steps, uint32_t decimation,
+                                  uint8_t paced, uint64_t now_us, const ss_node_run_sink_t *sink,
+                                  ss_node_refusal_t *why)
+{
+    if (!c->wave_loaded) {
+        return refuse(why, SS_PERR_NO_WAVEFORM, "RUN needs LOAD_WAVEFORM first", "");
+    }
+    if (decimation == 0u || paced > 1u) {
+        return refuse(why, SS_PERR_OUT_OF_RANGE, "decimation >= 1, paced 0 or 1", "");
+    }
+    c->running = 1;
+    c->run_seq = seq;
+    c->run_left = steps;
+    c->run_decimation = decimation;
+    c->paced = paced;
+    c->run_done = 0;
+    c->run_t0_us = now_us;
+    c->run_dt_fs = ss_node_model_dt_fs(&c->cfg);
+    c->run_next_fs = c->run_dt_fs;
+    if (c->run_left == 0u) {
+        end_run(c, SS_MSG_RUN, c->run_seq, sink);
+    }
+    return SS_PERR_NONE;
+}
+
+#define FS_PER_US 1000000000u
+
+void ss_node_core_run_poll(ss_node_core_t *c, uint64_t now_us, const ss_node_run_sink_t *sink)
+{
+    if (!c->running) {
+        return;
+    }
+    /* Paced: step k is due when k dt <= the time since the start, all in integer femtoseconds (a
+     * float deadline lost microseconds after 2^24 us, about 16 s). 2^64 fs is 5.1 hours: later
+     * than that, everything is due. */
+    const uint64_t elapsed_us = now_us - c->run_t0_us;
+    const uint64_t due_fs = (elapsed_us > UINT64_MAX / FS_PER_US) ? UINT64_MAX : elapsed_us * FS_PER_US;
+    uint32_t todo = (c->run_left < SS_NODE_MAX_STEPS_PER_POLL) ? c->run_left : SS_NODE_MAX_STEPS_PER_POLL;
+    for (; todo > 0u && (!c->paced || c->run_next_fs <= due_fs); --todo) {
+        ss_node_model_wave_advance(&c->wst);
+        ss_node_model_step(&c->cfg, &c->st, ss_node_model_wave_value(&c->wave, &c->wst));
+        c->run_done++;
+        c->run_left--;
+        c->run_next_fs =
+            (c->run_next_fs > UINT64_MAX - c->run_dt_fs) ? UINT64_MAX : c->run_next_fs + c->run_dt_fs;
+        if (c->run_done % c->run_decimation == 0u) {
+            sink->row(sink->ctx, c);
+        }
+    }
+    if (c->run_left == 0u) {
+        end_run(c, SS_MSG_RUN, c->run_seq, sink);
+    }
+}
+
+int ss_node_core_stop(ss_node_core_t *c, uint8_t seq, const ss_node_run_sink_t *sink)
+{
+    if (!c->running) {
+        return 0;
+    }
+    end_run(c, SS_MSG_STOP, seq, sink);
+    return 1;
+}

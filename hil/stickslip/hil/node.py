@@ -1,0 +1,149 @@
+"""What a session with a stage-model node offers, whatever carries it: the NodeSession protocol
+that the serial client (client.NodeClient) and the CAN client (can_client.CanNodeClient) both
+satisfy, and the values and errors they share."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Optional, Protocol, TypeVar
+
+import numpy as np
+
+from .. import _native as N
+from ..model import Sawtooth, SimResult
+from . import protocol as P
+
+# called with the steps done so far, on long runs (the CLI's progress display)
+StepProgress = Optional[Callable[[int], None]]
+
+
+class NodeError(RuntimeError):
+    """The node refused a request; `name` is the protocol's error name."""
+
+    def __init__(self, code: int, request_type: int, reason: str):
+        self.code, self.request_type, self.reason = code, request_type, reason
+        self.name = P.ERROR_NAMES.get(code, f"error_{code}")
+        super().__init__(f"node refused request 0x{request_type:02x}: {self.name}: {reason}")
+
+
+class LinkTimeoutError(TimeoutError):
+    """No reply in time: the request or its reply was lost."""
+
+
+@dataclass(frozen=True)
+class NodeInfo:
+    protocol: int
+    model: str
+    variant: str
+    n_params: int
+    dt_s: float
+    version: str
+
+
+@dataclass(frozen=True)
+class ParamInfo:
+    id: int
+    name: str
+    value: float
+    min: float
+    max: float
+
+
+@dataclass
+class Telemetry:
+    """Rows of the node's state: SI units, slider position summed in double."""
+
+    step: np.ndarray
+    drive_v: np.ndarray
+    x_rod_m: np.ndarray
+    x_slider_m: np.ndarray
+    friction_n: np.ndarray
+
+    @classmethod
+    def from_rows(cls, rows: list[tuple]) -> Telemetry:
+        a = np.array(rows, dtype=np.float64).reshape(-1, 6)
+        hi = np.array([r[3] for r in rows], dtype=np.float32).astype(np.float64)
+        lo = np.array([r[4] for r in rows], dtype=np.float32).astype(np.float64)
+        return cls(a[:, 0].astype(np.int64), a[:, 1], a[:, 2], hi + lo, a[:, 5])
+
+    @classmethod
+    def from_q_result(cls, r: SimResult, rows: slice = slice(1, None)) -> Telemetry:
+        """What a fixed-point node (stickslip_node_q, stickslip_fw_q.elf) sends for the q model's
+        states r (simulate(..., variant="q")), by the node's rule (docs/protocol.md): each
+        integer to float32 (nearest, ties to even), times its power of two; the slider as
+        hi = f32(x), lo = f32(x - hi). Exact for |x_slider| < 2^53 LSB, where int -> float64 ->
+        float32 rounds once."""
+
+        def ints(v: np.ndarray, signal: str) -> np.ndarray:
+            # exact: the values are k 2^-n, and so is their quotient by 2^-n
+            return np.round(v[rows] / N.q_scale(signal)).astype(np.int64)
+
+        def f32(q: np.ndarray, signal: str) -> np.ndarray:
+            return q.astype(np.float64).astype(np.float32) * np.float32(N.q_scale(signal))
+
+        x = ints(r.x_slider_m, "x_slider_q40")
+        hi = x.astype(np.float64).astype(np.float32)
+        lo = f32(x - hi.astype(np.int64), "x_slider_q40")
+        hi = hi * np.float32(N.q_scale("x_slider_q40"))
+        return cls(
+            np.round(r.t_s[rows] / r.dt_s).astype(np.int64),
+            f32(ints(r.drive_v, "drive_q16"), "drive_q16").astype(np.float64),
+            f32(ints(r.x_rod_m, "x_rod_q40"), "x_rod_q40").astype(np.float64),
+            hi.astype(np.float64) + lo.astype(np.float64),
+            f32(ints(r.force_n, "force_q24"), "force_q24").astype(np.float64),
+        )
+
+
+@dataclass
+class LinkStats:
+    frames_in: int = 0
+    lost_frames: int = 0  # gaps in the node's frame counter
+    duplicate_frames: int = 0
+    bad_frames: list[str] = field(default_factory=list)
+
+
+_S = TypeVar("_S", bound="NodeSession")
+
+
+class NodeSession(Protocol):
+    """A session with a node (docs/protocol.md), opened like a python-can bus: a context manager
+    that closes the link. `info.variant` is "f32" or "q" (model.VARIANTS)."""
+
+    url: str
+    info: NodeInfo
+    stats: LinkStats
+
+    def __enter__(self: _S) -> _S: ...
+
+    def __exit__(self, *exc: object) -> None: ...
+
+    def close(self) -> None: ...
+
+    def get(self, param: int | str) -> float: ...
+
+    def set(self, param: int | str, value: float) -> float: ...
+
+    def params(self) -> dict[str, ParamInfo]: ...
+
+    def reset(self, drive0_v: float = 0.0) -> None: ...
+
+    def load_waveform(self, w: Sawtooth) -> None: ...
+
+    def lockstep(
+        self,
+        drive_v: np.ndarray,
+        block: int = 40,
+        decimation: int = 1,
+        progress: StepProgress = None,
+    ) -> Telemetry: ...
+
+    def run(
+        self,
+        steps: int,
+        decimation: int = 1,
+        paced: bool = False,
+        timeout_s: float | None = None,
+        progress: StepProgress = None,
+    ) -> Telemetry: ...
+
+    def stop(self) -> int: ...
