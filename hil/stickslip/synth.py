@@ -58,6 +58,7 @@ class Truth:
     params: ActuatorParams
     effects: Effects = field(default_factory=Effects)
     causes: tuple[str, ...] = ()
+    law: str = "ls"  # the friction law of the C library that plays the contact
 
 
 # Physically plausible ranges of each hidden effect (the generator draws uniformly, log-uniformly
@@ -140,6 +141,7 @@ def generate(
             decimation=int(round(SAMPLE_INTERVAL_S / 1e-6)),
             effects=truth.effects,
             x0_m=x_start,
+            model=truth.law,
         )
         # the first sample is the state before the run (t = 0)
         t = sim.t_s

@@ -1,6 +1,6 @@
 """The cause catalog of stick-slip-diagnosis/1: what each cause is, which parameters of the C
-model (ss_effects.h) it fits, their ranges and starting points, and the base parameters that
-calibration fits for every model."""
+model (ss_effects.h) it fits, their fit bounds, physical ranges and starting points; the friction
+laws the base model can take and the base parameters that calibration fits for each."""
 
 from __future__ import annotations
 
@@ -12,7 +12,8 @@ from dataclasses import dataclass
 class Param:
     """One fitted parameter. The optimiser works on a dimensionless theta of order 1:
     value = ref * exp(theta) for "log" (scales: positive, spanning decades), value = theta * ref
-    for "lin" (signed, zero = off)."""
+    for "lin" (signed, zero = off). lo..hi bound the fit; phys is the range a real stage can have
+    (docs/diagnosis.md): a cause whose fit lands outside it is not named."""
 
     name: str
     kind: str  # "log" | "lin"
@@ -20,6 +21,7 @@ class Param:
     lo: float
     hi: float
     grid: tuple[float, ...] = ()  # starting values tried before the local fit (nonconvex scales)
+    phys: tuple[float, float] | None = None
 
     def value(self, theta: float) -> float:
         return self.ref * math.exp(theta) if self.kind == "log" else theta * self.ref
@@ -30,17 +32,50 @@ class Param:
     def bounds(self) -> tuple[float, float]:
         return self.theta(self.lo), self.theta(self.hi)
 
+    def stderr(self, value: float, theta_stderr: float) -> float:
+        """Standard error of the value from that of theta (first order)."""
+        return abs(value) * theta_stderr if self.kind == "log" else self.ref * theta_stderr
 
-# Base calibration: the friction levels Fc = mu_d N and Fs = mu_s N, through normal_force_n and
-# mu_s. The piezo gain stays at its nominal value: the model is invariant (up to the Stribeck
-# velocity) under scaling gain, normal force and every length by one factor, so a gain error and
-# a sensor scale error cannot be told apart from position data; the catalog names it
-# sensor_scale_error. Masses and stiffnesses are datasheet values a lab can weigh and measure.
-BASE_PARAMS = (
-    Param("normal_force_n", "log", 10.0, 1.0, 100.0),
-    # mu_s enters as the Stribeck excess mu_s - mu_d (kept > 0: Fs >= Fc), ref set per dataset
-    Param("stribeck_excess", "log", 0.06, 1e-3, 1.0),
-)
+
+# The friction laws the base model can take (the C library's friction models). The dataset's
+# nominal parameters are read as LS parameters: LS is the base law; another is named only when
+# the data prefer it (the cause friction_law).
+BASE_LAW = "ls"
+LAWS: tuple[str, ...] = ("ls", "lugre", "gms")
+
+# Base calibration: every parameter of the friction law and the piezo damping, each within a
+# factor of its nominal value (log scale). Fs = mu_s N and Fc = mu_d N are reached through
+# normal_force_n (mu_d held: N and mu_d only ever appear as their product) and the Stribeck
+# excess mu_s - mu_d (kept > 0: Fs >= Fc). The piezo gain stays at its nominal value: the model is
+# invariant (up to the Stribeck velocity) under scaling gain, normal force and every length by one
+# factor, so a gain error and a sensor scale error cannot be told apart from position data; the
+# catalog names it sensor_scale_error. Masses and the piezo stiffness are datasheet values a lab
+# can weigh and measure.
+BASE_FACTOR: dict[str, float] = {
+    "normal_force_n": 10.0,
+    "stribeck_excess": 30.0,
+    "sigma0_n_per_m": 30.0,
+    "stribeck_velocity_m_per_s": 30.0,
+    "sigma1_ns_per_m": 100.0,
+    "sigma2_ns_per_m": 100.0,
+    "piezo_damping_kg_per_s": 30.0,
+}
+# What each law uses: GMS has no micro-damping (sigma1); LS uses it in gross sliding only.
+LAW_PARAMS: dict[str, tuple[str, ...]] = {
+    "ls": tuple(BASE_FACTOR),
+    "lugre": tuple(BASE_FACTOR),
+    "gms": tuple(k for k in BASE_FACTOR if k != "sigma1_ns_per_m"),
+}
+# The two that set the step size (Fc against the slider's inertia on the fast edge, Fs at
+# break-away): freed with every cause, so that an effect the base model lacks cannot leave them
+# biased. The other base parameters stay at their calibrated values while causes are fitted.
+STRONG_PARAMS: tuple[str, ...] = ("normal_force_n", "stribeck_excess")
+
+
+def base_param(name: str, nominal_value: float) -> Param:
+    f = BASE_FACTOR[name]
+    return Param(name, "log", nominal_value, nominal_value / f, nominal_value * f)
+
 
 CAUSES: dict[str, str] = {
     "piezo_hysteresis": "rate-independent hysteresis between drive voltage and piezo strain",
@@ -53,29 +88,73 @@ CAUSES: dict[str, str] = {
     "base_compliance": "the piezo's base is not rigid: an extra resonance between piezo and ground",
     "sensor_scale_error": "the position sensor's gain is off",
 }
+FRICTION_LAW = "friction_law"
+FRICTION_LAW_TEXT = "the contact follows another friction law than the base model's"
 
-# Effects fields fitted for each cause (names of stickslip.model.Effects), and fixed companions.
+# Effects fields fitted for each cause (names of stickslip.model.Effects), their fit bounds and
+# physical ranges (docs/diagnosis.md, section 2, gives the reason for each range).
 CAUSE_PARAMS: dict[str, tuple[Param, ...]] = {
     "piezo_hysteresis": (
-        Param("hysteresis_alpha", "lin", 0.1, 0.0, 0.9),
-        Param("hysteresis_width_m", "log", 1e-6, 5e-8, 1e-4, grid=(2e-7, 5e-7, 1e-6, 2e-6, 5e-6)),
+        Param("hysteresis_alpha", "lin", 0.1, 0.0, 0.9, phys=(0.01, 0.5)),
+        Param(
+            "hysteresis_width_m",
+            "log",
+            1e-6,
+            5e-8,
+            1e-4,
+            grid=(2e-7, 5e-7, 1e-6, 2e-6, 5e-6),
+            phys=(5e-8, 2e-5),
+        ),
     ),
     "piezo_creep": (
-        Param("creep_ratio", "lin", 0.05, 0.0, 1.0),
-        Param("creep_tau_s", "log", 0.02, 2e-4, 10.0, grid=(1e-3, 3e-3, 1e-2, 3e-2, 0.1)),
+        Param("creep_ratio", "lin", 0.05, 0.0, 1.0, phys=(0.005, 0.3)),
+        Param(
+            "creep_tau_s",
+            "log",
+            0.02,
+            2e-4,
+            10.0,
+            grid=(1e-3, 3e-3, 1e-2, 3e-2, 0.1),
+            phys=(1e-3, 2),
+        ),
     ),
-    "external_load": (Param("load_n", "lin", 0.1, -3.0, 3.0),),
-    "position_dependent_friction": (Param("friction_gradient_per_m", "lin", 300.0, -2e4, 2e4),),
-    "asymmetric_friction": (Param("friction_asymmetry", "lin", 0.05, -0.8, 0.8),),
+    "external_load": (Param("load_n", "lin", 0.1, -3.0, 3.0, phys=(-1.5, 1.5)),),
+    "position_dependent_friction": (
+        Param("friction_gradient_per_m", "lin", 300.0, -2e4, 2e4, phys=(-3e3, 3e3)),
+    ),
+    "asymmetric_friction": (Param("friction_asymmetry", "lin", 0.05, -0.8, 0.8, phys=(-0.3, 0.3)),),
     "amplifier_slew_limit": (
-        Param("slew_v_per_s", "log", 1e6, 1e4, 1e10, grid=(1e5, 2e5, 4e5, 8e5, 1.6e6, 3.2e6, 1e7)),
+        Param(
+            "slew_v_per_s",
+            "log",
+            1e6,
+            1e4,
+            1e10,
+            # a quarter octave apart: how far the slider slips on a slowed edge changes steeply
+            # with the slew rate (+-30 % moves a 15 us edge's step by microns per cycle)
+            grid=tuple(2e5 * 2 ** (k / 4) for k in range(23)),
+            phys=(1e4, 1e8),
+        ),
     ),
     "thermal_drift": (
-        Param("thermal_coeff_per_j", "lin", 300.0, -3e4, 3e4, grid=(-500.0, 300.0, 1000.0)),
-        Param("thermal_tau_s", "log", 0.1, 1e-3, 100.0, grid=(0.03, 0.1, 0.3, 1.0)),
+        Param(
+            "thermal_coeff_per_j",
+            "lin",
+            300.0,
+            -3e4,
+            3e4,
+            grid=(-500.0, 300.0, 1000.0),
+            phys=(-5e3, 5e3),
+        ),
+        # a lumped node for the bulk contact temperature: its diffusion time over a ~0.3 mm
+        # contact zone of steel is 20 ms or more; "heat" that follows the sliding power within a
+        # few cycles is a rate-dependent friction law, not heating
+        Param(
+            "thermal_tau_s", "log", 0.1, 1e-3, 100.0, grid=(0.03, 0.1, 0.3, 1.0), phys=(0.02, 100)
+        ),
     ),
     "base_compliance": (
-        Param("base_mass_kg", "log", 0.02, 1e-3, 1.0, grid=(0.01, 0.04)),
+        Param("base_mass_kg", "log", 0.02, 1e-3, 1.0, grid=(0.01, 0.04), phys=(2e-3, 0.5)),
         Param(
             "base_freq_hz",
             "log",
@@ -95,9 +174,10 @@ CAUSE_PARAMS: dict[str, tuple[Param, ...]] = {
                 11000.0,
                 15000.0,
             ),
+            phys=(500.0, 3e4),
         ),
     ),
-    "sensor_scale_error": (Param("sensor_scale_error", "lin", 0.01, -0.4, 0.4),),
+    "sensor_scale_error": (Param("sensor_scale_error", "lin", 0.01, -0.4, 0.4, phys=(-0.1, 0.1)),),
 }
 
 # Values an effect needs besides its fitted parameters (fixed, documented in docs/diagnosis.md).

@@ -1,53 +1,131 @@
 """Simulating measured runs with the C model, and fitting model parameters to them.
 
-A model point is (ActuatorParams, Effects). A fit takes a list of causes, frees the base
-parameters (catalog.BASE_PARAMS) and each cause's parameters, and minimises the position residual
-over the training runs, scaled by the measurement noise, with scipy's least_squares. Every
-function here is a plain top-level function of picklable arguments, so an Executor (local
-processes, Dask) can run it anywhere."""
+A model point is (friction law, ActuatorParams, Effects). A fit frees a chosen set of base
+parameters (catalog.BASE_FACTOR) and the parameters of a list of causes, and minimises the
+position residual over the given runs, scaled by the measurement noise, with scipy's
+least_squares. Its Jacobian at the optimum gives each parameter's standard error. Every function
+here is a plain top-level function of picklable arguments, so an Executor (local processes, Dask)
+can run it anywhere."""
 
 from __future__ import annotations
 
 import itertools
 import math
 from dataclasses import dataclass, field, replace
+from functools import cache
 
 import numpy as np
 from scipy.optimize import least_squares
+from scipy.signal import resample_poly
 
 from ..dataset import Run
-from ..model import ActuatorParams, Effects, simulate
-from .catalog import BASE_PARAMS, CAUSE_FIXED, CAUSE_PARAMS, CAUSE_START, Param
+from ..model import ActuatorParams, Effects, Sawtooth, simulate
+from .catalog import CAUSE_FIXED, CAUSE_PARAMS, CAUSE_START, Param, base_param
 
 MAX_DT_S = 1e-6  # the model's step: converged to 0.08 % per cycle (docs/model.md)
+# Fits and figures work on the measured positions anti-alias filtered and decimated to at most
+# this rate: 2.5 samples on a 50 us stretch, far above the slider's 4.3 kHz contact mode.
+MAX_FIT_RATE_HZ = 50e3
 MAX_POINTS_PER_RUN = 1500  # residual samples per run in a fit (every k-th sample)
 MIN_STEP_OVER_NOISE = 50.0  # a run steps when its mean step is above this x noise
 H_THETA = 1e-3  # finite-difference step in theta (0.1 % of a scale, 1e-3 ref of a signed value)
+# A parameter whose standard error exceeds this share of its value (of its reference, for signed
+# ones) is not pinned down by the runs: it is held at its nominal value and reported as such.
+MAX_REL_STDERR = 0.3
+
+
+@dataclass
+class FitRun:
+    """A measured run as the fits see it: positions anti-alias filtered and decimated (t_s, x_m,
+    dt_s), the drive as recorded (waveform, or drive_v at drive_dt_s) for the simulation."""
+
+    id: str
+    t_s: np.ndarray
+    x_m: np.ndarray
+    dt_s: float
+    waveform: Sawtooth | None
+    drive_v: np.ndarray
+    drive_dt_s: float
+    decimation: int  # measured samples per fit sample
+
+
+@cache
+def filter_noise_gain(q: int) -> float:
+    """RMS of white unit noise after the decimation filter of factor q (1 for q = 1)."""
+    if q == 1:
+        return 1.0
+    w = np.random.default_rng(0).standard_normal(400_000)
+    return float(np.std(resample_poly(w, 1, q)[100:-100]))
+
+
+def prepare(run: Run) -> FitRun:
+    """Filter and decimate a run to at most MAX_FIT_RATE_HZ (polyphase FIR, zero phase, linear
+    extension at the ends so a run's offset and drift are not pulled toward zero)."""
+    q = max(1, math.ceil(1.0 / (run.dt_s * MAX_FIT_RATE_HZ) - 1e-9))
+    x = run.x_m if q == 1 else resample_poly(run.x_m, 1, q, padtype="line")
+    t = run.t_s[::q]
+    n = min(len(t), len(x))
+    return FitRun(
+        run.id, t[:n], np.asarray(x[:n]), run.dt_s * q, run.waveform, run.drive_v, run.dt_s, q
+    )
 
 
 @dataclass
 class Model:
     params: ActuatorParams
     effects: Effects = field(default_factory=Effects)
+    law: str = "ls"
+    causes: tuple[str, ...] = ()  # catalog causes whose effects the model carries
 
-    def values(self, causes: tuple[str, ...]) -> dict[str, float]:
-        """The fitted values, named as in the diagnosis JSON."""
-        out = {"normal_force_n": self.params.normal_force_n, "mu_s": self.params.mu_s}
-        for c in causes:
-            for p in CAUSE_PARAMS[c]:
-                out[f"{c}.{p.name}"] = float(getattr(self.effects, p.name))
+    def base_value(self, name: str) -> float:
+        if name == "stribeck_excess":
+            return self.params.mu_s - self.params.mu_d
+        return float(getattr(self.params, name))
+
+    def with_base(self, values: dict[str, float]) -> Model:
+        kw = dict(values)
+        if "stribeck_excess" in kw:
+            kw["mu_s"] = self.params.mu_d + kw.pop("stribeck_excess")
+        return replace(self, params=replace(self.params, **kw))
+
+    def without(self, cause: str) -> Model:
+        """The same model with one cause's effect switched off."""
+        off = {q.name: 0.0 for q in CAUSE_PARAMS[cause]} | dict.fromkeys(
+            CAUSE_FIXED.get(cause, {}), 0.0
+        )
+        return replace(
+            self,
+            effects=replace(self.effects, **off),
+            causes=tuple(c for c in self.causes if c != cause),
+        )
+
+    def values(self) -> dict[str, float]:
+        """Every base value and the causes' fitted values, named as in the diagnosis JSON."""
+        p = self.params
+        out: dict = {
+            "normal_force_n": p.normal_force_n,
+            "mu_s": p.mu_s,
+            "sigma0_n_per_m": p.sigma0_n_per_m,
+            "stribeck_velocity_m_per_s": p.stribeck_velocity_m_per_s,
+            "sigma1_ns_per_m": p.sigma1_ns_per_m,
+            "sigma2_ns_per_m": p.sigma2_ns_per_m,
+            "piezo_damping_kg_per_s": p.piezo_damping_kg_per_s,
+        }
+        for c in self.causes:
+            for q in CAUSE_PARAMS[c]:
+                out[f"{c}.{q.name}"] = float(getattr(self.effects, q.name))
         return out
 
 
-def sim_step_s(run: Run) -> tuple[float, int]:
-    """Model step dividing the run's sample interval exactly, and the decimation."""
+def sim_step_s(run: FitRun) -> tuple[float, int]:
+    """Model step dividing the fit's sample interval exactly, and the decimation."""
     dec = max(1, math.ceil(run.dt_s / MAX_DT_S - 1e-9))
     return run.dt_s / dec, dec
 
 
-def predict(run: Run, model: Model) -> np.ndarray:
-    """What the sensor would have reported at the run's sample times under this model, the slider
-    starting where the run's first samples put it."""
+def predict(run: FitRun, model: Model) -> np.ndarray:
+    """What the sensor would have reported at the run's fit sample times under this model. The
+    slider's start is a nuisance offset per run, placed by least squares over the whole run."""
     dt, dec = sim_step_s(run)
     scale = 1.0 + model.effects.sensor_scale_error
     x0 = float(run.x_m[0]) / scale
@@ -57,6 +135,7 @@ def predict(run: Run, model: Model) -> np.ndarray:
         r = simulate(
             run.waveform,
             model.params,
+            model=model.law,
             dt_s=dt,
             hold_s=hold,
             decimation=dec,
@@ -67,10 +146,11 @@ def predict(run: Run, model: Model) -> np.ndarray:
         r = simulate(
             None,
             model.params,
+            model=model.law,
             dt_s=dt,
             decimation=dec,
             drive_v=run.drive_v,
-            drive_interval_s=run.dt_s,
+            drive_interval_s=run.drive_dt_s,
             effects=model.effects,
             x0_m=x0,
         )
@@ -78,41 +158,55 @@ def predict(run: Run, model: Model) -> np.ndarray:
     if len(x) < n + 1:  # rounding of the duration: hold the last value
         x = np.concatenate([x, np.full(n + 1 - len(x), x[-1])])
     x = x[: n + 1]
-    # Where the slider started is known only to the sensor's noise: it is placed by least squares
-    # over the whole run (the model is translation invariant), one nuisance offset per run, the
-    # same for every model compared. Placing it from the first samples alone left their mean
-    # noise (~0.7 nm from 10 samples) as an offset in every residual, and fits then bent the
-    # physical parameters to chase it.
+    # Where the slider started is known only to the sensor's noise: placing it from the first
+    # samples alone left their mean noise (~0.7 nm from 10 samples) as an offset in every
+    # residual, and fits then bent the physical parameters to chase it.
     return x + float(np.mean(run.x_m - x))
 
 
-def build(base: ActuatorParams, causes: tuple[str, ...], theta: np.ndarray, specs) -> Model:
-    """Model for a parameter vector theta (BASE_PARAMS then each cause's params)."""
-    vals = {s.name: s.value(float(t)) for s, t in zip(specs, theta)}
-    p = replace(
-        base,
-        normal_force_n=vals["normal_force_n"],
-        mu_s=base.mu_d + vals["stribeck_excess"],
-    )
-    kw: dict[str, float] = {}
-    for c in causes:
-        kw.update(CAUSE_FIXED.get(c, {}))
-    kw.update({k: v for k, v in vals.items() if k not in ("normal_force_n", "stribeck_excess")})
-    return Model(p, Effects(**kw))
+@dataclass(frozen=True)
+class Free:
+    """What a fit frees: base parameters by name, and causes (each with all its parameters)."""
+
+    base: tuple[str, ...]
+    causes: tuple[str, ...]
 
 
-def specs_for(base: ActuatorParams, causes: tuple[str, ...]) -> list[Param]:
-    n, ex = BASE_PARAMS
-    specs = [
-        replace(n, ref=base.normal_force_n),
-        replace(ex, ref=max(base.mu_s - base.mu_d, 1e-3)),
-    ]
-    for c in causes:
+def specs_for(nominal: ActuatorParams, free: Free) -> list[Param]:
+    specs = []
+    for name in free.base:
+        if name == "stribeck_excess":
+            specs.append(base_param(name, max(nominal.mu_s - nominal.mu_d, 1e-3)))
+        else:
+            specs.append(base_param(name, float(getattr(nominal, name))))
+    for c in free.causes:
         specs.extend(CAUSE_PARAMS[c])
     return specs
 
 
-def _cycle_refs(run: Run) -> np.ndarray | None:
+def theta_of(model: Model, specs: list[Param]) -> np.ndarray:
+    """The fit coordinates of a model's values (clipped into the bounds)."""
+    out = []
+    for s in specs:
+        lo, hi = s.bounds()
+        out.append(min(max(s.theta(_value_of(model, s)), lo), hi))
+    return np.array(out)
+
+
+def build(start: Model, free: Free, theta: np.ndarray, specs: list[Param]) -> Model:
+    """The model at theta: start's values (its causes' effects included), with the free base
+    parameters and the free causes' parameters from theta."""
+    nb = len(free.base)
+    m = start.with_base({s.name: s.value(float(t)) for s, t in zip(specs[:nb], theta[:nb])})
+    kw: dict[str, float] = {}
+    for c in free.causes:
+        kw.update(CAUSE_FIXED.get(c, {}))
+    kw.update({s.name: s.value(float(t)) for s, t in zip(specs[nb:], theta[nb:])})
+    causes = m.causes + tuple(c for c in free.causes if c not in m.causes)
+    return replace(m, effects=replace(m.effects, **kw), causes=causes)
+
+
+def _cycle_refs(run: FitRun) -> np.ndarray | None:
     """For each sample, the index of the sample at the start of its period (or of the hold)."""
     if run.waveform is None:
         return None
@@ -123,7 +217,7 @@ def _cycle_refs(run: Run) -> np.ndarray | None:
 
 
 def residuals(
-    runs: list[Run], model: Model, noise_m: float, every: list[int], per_cycle: bool = False
+    runs: list[FitRun], model: Model, noise_m: float, every: list[int], per_cycle: bool = False
 ) -> np.ndarray:
     """Simulated minus measured position over noise, every k-th sample. per_cycle measures each
     sample from the start of its period instead: the residual no longer accumulates over a run,
@@ -144,47 +238,116 @@ def residuals(
 
 @dataclass
 class FitResult:
-    causes: tuple[str, ...]
+    free: Free
     model: Model
     values: dict[str, float]
     train_rms_m: float
-    n_params: int
     nfev: int
+    # per free parameter: standard error of its value (first order, from the Jacobian at the
+    # optimum, scaled by the reduced chi-square when the model does not reach the noise)
+    stderr: dict[str, float] = field(default_factory=dict)
+    correlation: dict[str, dict[str, float]] = field(default_factory=dict)
+    at_bound: tuple[str, ...] = ()
+
+    jac: np.ndarray | None = None  # residual / noise against theta at the optimum
+    fun: np.ndarray | None = None  # residual / noise at the optimum
+    specs: list[Param] = field(default_factory=list)
+
+    @property
+    def causes(self) -> tuple[str, ...]:
+        return self.model.causes
+
+    @property
+    def n_params(self) -> int:
+        return len(self.stderr)
+
+
+def covariance(jac: np.ndarray, chi2_red: float) -> np.ndarray:
+    """Covariance of the fit coordinates from the Jacobian (residual over noise), scaled by the
+    reduced chi-square when the model does not reach the noise. A direction the residual does not
+    depend on (a dead parameter, or two that act alike) has an infinite variance, so that every
+    parameter along it reads as not identifiable (a pseudo-inverse would report it as exact)."""
+    jtj = jac.T @ jac
+    s, v = np.linalg.eigh(jtj)
+    dead = s <= max(float(s.max(initial=0.0)), 1e-300) * 1e-10
+    inv = np.where(dead, 0.0, 1.0 / np.where(dead, 1.0, s))
+    cov = (v * inv) @ v.T * max(1.0, chi2_red)
+    along_dead = (
+        np.any(np.abs(v[:, dead]) > 1e-6, axis=1) if np.any(dead) else np.zeros(len(s), bool)
+    )
+    cov[along_dead, :] = np.inf
+    cov[:, along_dead] = np.inf
+    return cov
+
+
+def _uncertainty(
+    jac: np.ndarray, fun: np.ndarray, theta: np.ndarray, specs: list[Param], model: Model
+) -> tuple[dict[str, float], dict[str, dict[str, float]]]:
+    n, k = jac.shape
+    cov = covariance(jac, float(np.sum(fun**2)) / max(1, n - k))
+    sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    vals = [_value_of(model, s) for s in specs]
+    stderr = {s.name: s.stderr(v, float(e)) for s, v, e in zip(specs, vals, sd)}
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = np.nan_to_num(cov / np.outer(sd, sd), nan=0.0, posinf=0.0, neginf=0.0)
+    correlation = {
+        a.name: {b.name: float(corr[i, j]) for j, b in enumerate(specs) if j != i}
+        for i, a in enumerate(specs)
+    }
+    return stderr, correlation
+
+
+def _value_of(model: Model, s: Param) -> float:
+    if s.name in ("stribeck_excess",) or hasattr(model.params, s.name):
+        return model.base_value(s.name)
+    return float(getattr(model.effects, s.name))
+
+
+def rel_stderr(p: Param, value: float, stderr: float) -> float:
+    """Standard error relative to the value (to the reference, for a signed parameter that may
+    be zero)."""
+    scale = abs(value) if p.kind == "log" else max(abs(value), abs(p.ref))
+    return stderr / scale if scale > 0 else math.inf
 
 
 def fit(
-    runs: list[Run],
-    base: ActuatorParams,
-    causes: tuple[str, ...],
+    runs: list[FitRun],
+    nominal: ActuatorParams,
+    start: Model,
+    free: Free,
     noise_m: float,
-    start: Model | None = None,
     max_nfev: int = 30,
     polish: bool = False,
+    grid: bool = True,
 ) -> FitResult:
-    """Least-squares fit of the base parameters and the causes' parameters on runs. Starts from
-    `start` where it holds a value (the baseline fit), else from the catalog's start; scale
-    parameters with a grid are first tried at each grid value (their cost is not convex), unless
-    polish: then the fit continues from `start` alone."""
-    specs = specs_for(base, causes)
+    """Least-squares fit of the free parameters on runs, from start (which also holds every value
+    that is not free). A cause's parameters start where start has them, else at the catalog's
+    start; scale parameters with a grid are first tried at each grid value (their cost is not
+    convex), unless polish (the fit continues from start alone) or not grid (start is already
+    a good point, e.g. a screened one). Two stages: the per-cycle
+    residual to get near, then the absolute position (what the validation measures)."""
+    specs = specs_for(nominal, free)
+    nb = len(free.base)
     every = [max(1, len(r.x_m) // MAX_POINTS_PER_RUN) for r in runs]
     theta0 = []
-    for s in specs:
-        if s.name == "normal_force_n":
-            v = start.params.normal_force_n if start else base.normal_force_n
-        elif s.name == "stribeck_excess":
-            v = (start.params.mu_s - start.params.mu_d) if start else base.mu_s - base.mu_d
+    for i, s in enumerate(specs):
+        if i < nb:
+            v = start.base_value(s.name)
         else:
-            cause = next(c for c in causes if s in CAUSE_PARAMS[c])
+            cause = next(c for c in free.causes if s in CAUSE_PARAMS[c])
             v = CAUSE_START.get(cause, {}).get(s.name, 0.0)
-            if start is not None and getattr(start.effects, s.name) != 0.0:
+            if getattr(start.effects, s.name) != 0.0:
                 v = getattr(start.effects, s.name)
         t_lo, t_hi = s.bounds()
         theta0.append(min(max(s.theta(v), t_lo + 1e-9), t_hi - 1e-9))
     theta0_arr = np.array(theta0)
     lo = np.array([s.bounds()[0] for s in specs])
     hi = np.array([s.bounds()[1] for s in specs])
-
     counter = [0]
+
+    def res_at(theta: np.ndarray, per_cycle: bool) -> np.ndarray:
+        counter[0] += 1
+        return residuals(runs, build(start, free, theta, specs), noise_m, every, per_cycle)
 
     def solve(theta0: np.ndarray, per_cycle: bool, nfev: int, tol: float):
         cache: dict[bytes, np.ndarray] = {}
@@ -193,10 +356,7 @@ def fit(
             key = theta.tobytes()
             if key not in cache:
                 cache.clear()  # least_squares asks for jac at the point it just evaluated
-                cache[key] = residuals(
-                    runs, build(base, causes, theta, specs), noise_m, every, per_cycle
-                )
-                counter[0] += 1
+                cache[key] = res_at(theta, per_cycle)
             return cache[key]
 
         def jac(theta: np.ndarray) -> np.ndarray:
@@ -208,9 +368,7 @@ def fit(
                 th = theta.copy()
                 h = H_THETA if th[i] + H_THETA <= hi[i] else -H_THETA
                 th[i] += h
-                m = build(base, causes, th, specs)
-                cols.append((residuals(runs, m, noise_m, every, per_cycle) - f0) / h)
-                counter[0] += 1
+                cols.append((res_at(th, per_cycle) - f0) / h)
             return np.column_stack(cols)
 
         return least_squares(
@@ -222,35 +380,41 @@ def fit(
         # with the base parameters both as given and nominal (an effect the base model lacks
         # distorts its calibration); the cheapest is fitted.
         starts = []
-        axes = [(i, s.grid) for i, s in enumerate(specs) if s.grid]
+        axes = [(i, s.grid) for i, s in enumerate(specs) if s.grid and grid]
         combos = list(itertools.product(*(g for _, g in axes))) if axes else [()]
-        for b in {theta0_arr[:2].tobytes(): theta0_arr[:2], b"nominal": np.zeros(2)}.values():
+        for b in {theta0_arr[:nb].tobytes(): theta0_arr[:nb], b"nominal": np.zeros(nb)}.values():
             for combo in combos:
                 th = theta0_arr.copy()
-                th[:2] = b
+                th[:nb] = np.clip(b, lo[:nb] + 1e-9, hi[:nb] - 1e-9)
                 for (i, _), v in zip(axes, combo):
                     th[i] = specs[i].theta(v)
                 starts.append(th)
         if len(starts) > 1:
-            costs = []
-            for th in starts:
-                r = residuals(runs, build(base, causes, th, specs), noise_m, every, True)
-                counter[0] += 1
-                costs.append(float(np.sum(r**2)))
+            costs = [float(np.sum(res_at(th, True) ** 2)) for th in starts]
             theta0_arr = starts[int(np.argmin(costs))]
         # near is enough here: stage 2 sets the digits
         theta0_arr = solve(theta0_arr, True, max_nfev, 1e-3).x
-    # Stage 2 (or a polish) on the absolute position: what the validation measures
     res = solve(theta0_arr, False, max_nfev if polish else max(10, max_nfev // 2), 1e-5)
-    model = build(base, causes, res.x, specs)
+    model = build(start, free, res.x, specs)
+    stderr, corr = _uncertainty(res.jac, res.fun, res.x, specs, model)
+    at_bound = tuple(
+        s.name
+        for s, t, a, b in zip(specs, res.x, lo, hi)
+        if min(t - a, b - t) < 1e-3 * max(1.0, b - a)
+    )
     r = res.fun * noise_m
     return FitResult(
-        causes,
+        free,
         model,
-        model.values(causes),
+        model.values(),
         float(np.sqrt(np.mean(r**2))),
-        len(specs),
         counter[0],
+        stderr,
+        corr,
+        at_bound,
+        res.jac,
+        res.fun,
+        specs,
     )
 
 
@@ -264,8 +428,12 @@ class Evaluation:
     n_samples: int
     per_run: dict[str, dict] = field(default_factory=dict)
 
+    @property
+    def mse_over_noise(self) -> float:
+        return self.rss_over_noise / self.n_samples
 
-def cycle_steps(run: Run, x: np.ndarray) -> np.ndarray:
+
+def cycle_steps(run: FitRun, x: np.ndarray) -> np.ndarray:
     """Per-period displacement of a position record (at the period boundaries)."""
     if run.waveform is None:
         return np.zeros(0)
@@ -274,7 +442,7 @@ def cycle_steps(run: Run, x: np.ndarray) -> np.ndarray:
     return np.diff(xb)
 
 
-def evaluate(runs: list[Run], model: Model, noise_m: float) -> Evaluation:
+def evaluate(runs: list[FitRun], model: Model, noise_m: float) -> Evaluation:
     rss, n, step_rel = 0.0, 0, []
     per_run = {}
     for run in runs:
@@ -289,6 +457,6 @@ def evaluate(runs: list[Run], model: Model, noise_m: float) -> Evaluation:
         typical = float(np.mean(np.abs(s_meas))) if len(s_meas) else 0.0
         if typical > MIN_STEP_OVER_NOISE * noise_m:
             step_rel.extend(((s_sim - s_meas) / typical).tolist())
-        per_run[run.id] = {"rmse_m": float(np.sqrt(np.mean(r**2)))}
+        per_run[run.id] = {"rmse_m": float(np.sqrt(np.mean(r**2))), "rss": float(np.sum(r**2))}
     step_err = float(np.sqrt(np.mean(np.square(step_rel)))) if step_rel else 0.0
     return Evaluation(float(np.sqrt(rss / n)), step_err, rss / noise_m**2, n, per_run)

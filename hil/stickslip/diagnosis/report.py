@@ -13,12 +13,18 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .. import dataset as D  # noqa: E402
-from .catalog import CAUSES  # noqa: E402
-from .fit import Model, cycle_steps, predict  # noqa: E402
-from .pipeline import MIN_BIC_DROP, MIN_MSE_DROP_OVER_NOISE, Diagnosis  # noqa: E402
+from .catalog import CAUSES, FRICTION_LAW, FRICTION_LAW_TEXT  # noqa: E402
+from .fit import FitRun, Model, cycle_steps, predict, prepare  # noqa: E402
+from .guards import CV_MIN_DROP, FINAL_SHARE, FWD_SHARE  # noqa: E402
+from .pipeline import (  # noqa: E402
+    MIN_BIC_DROP,
+    MIN_MSE_DROP_OVER_NOISE,
+    UNEXPLAINED_RMSE_OVER_NOISE,
+    Diagnosis,
+)
 
 
-def _signatures(runs: list[D.Run], model: Model) -> dict[str, np.ndarray]:
+def _signatures(runs: list[FitRun], model: Model) -> dict[str, np.ndarray]:
     """Per-cycle step residual (simulated - measured, m) along the drive direction (> 0: the model
     steps further than measured) with the conditions of each cycle, and the position residual,
     also along the drive direction, against phase within the cycle. Along the direction, a load
@@ -90,8 +96,8 @@ def _plot_signatures(path: Path, sig: dict[str, np.ndarray], title: str) -> None
 def write_report(d: Diagnosis, out_dir: str | Path) -> Path:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    ds = D.load(d.dataset)
-    val = [r for r in ds.runs if r.id in d.val_ids]
+    runs = [prepare(r) for r in D.load(d.dataset).runs]
+    val = [r for r in runs if r.id in d.val_ids]
     models = {
         "nominal": d.nominal_model,
         "baseline": d.baseline.fit.model,
@@ -120,7 +126,7 @@ def write_report(d: Diagnosis, out_dir: str | Path) -> Path:
     fig, ax = plt.subplots(figsize=(12, 4))
     off = 0
     ticks = []
-    for run in ds.runs:
+    for run in runs:
         sm = cycle_steps(run, run.x_m)
         k = off + np.arange(len(sm))
         ax.plot(k, 1e6 * sm, "k.", ms=4, label="measured" if off == 0 else None)
@@ -139,13 +145,13 @@ def write_report(d: Diagnosis, out_dir: str | Path) -> Path:
     # 3. residual signatures of the calibrated base model and of the extended model
     _plot_signatures(
         out / "signatures_baseline.png",
-        _signatures(ds.runs, models["baseline"]),
+        _signatures(runs, models["baseline"]),
         "Residual signatures, calibrated base model",
     )
     if d.chosen.causes:
         _plot_signatures(
             out / "signatures_extended.png",
-            _signatures(ds.runs, models["extended"]),
+            _signatures(runs, models["extended"]),
             "Residual signatures, extended model (" + " + ".join(d.chosen.causes) + ")",
         )
 
@@ -159,31 +165,65 @@ def _nm(v: float) -> str:
     return f"{v * 1e9:.3g} nm" if v < 1e-6 else f"{v * 1e6:.3g} um"
 
 
-def _markdown(d: Diagnosis, j: dict) -> str:
-    noise = d.noise_m
-    lines = [f"# Diagnosis of `{d.dataset}`", ""]
-    causes = j["causes"]
+def _describe(name: str) -> str:
+    return FRICTION_LAW_TEXT if name == FRICTION_LAW else CAUSES[name]
+
+
+def _verdict(causes: list[str], d: Diagnosis, law: str) -> str:
     if causes == ["none"] and not d.unexplained:
-        verdict = (
+        return (
             "**No missing physics.** The base model, calibrated on this data, explains it down "
             "to the measurement noise."
         )
-    elif causes == ["parameter_miscalibration"]:
-        verdict = (
+    if causes == ["parameter_miscalibration"]:
+        return (
             "**Parameter miscalibration, no missing physics.** The nominal parameters are off; "
             "calibrated, the base model explains the data down to the noise."
         )
-    elif causes == ["none"]:
-        verdict = (
+    if causes == ["none"]:
+        return (
             "**Unexplained.** No cause in the catalog explains the residuals, which stay well "
-            "above the noise. The data holds something the catalog does not name."
+            "above the noise, and none passed the guards. The data holds something the model "
+            "does not describe: see *What is wrong with the model* below."
         )
-    else:
-        named = "; ".join(f"`{c}`: {CAUSES[c]}" for c in causes)
-        verdict = f"**Cause{'s' if len(causes) > 1 else ''}: {named}.**"
-        if d.unexplained:
-            verdict += " Even so, residuals stay well above the noise: part of it is unexplained."
-    lines += [verdict, ""]
+    named = "; ".join(
+        f"`{c}`: {_describe(c)}" + (f" (the data prefer **{law}**)" if c == FRICTION_LAW else "")
+        for c in causes
+    )
+    verdict = f"**Cause{'s' if len(causes) > 1 else ''}: {named}.**"
+    if d.unexplained:
+        verdict += " Even so, residuals stay well above the noise: part of it is unexplained."
+    return verdict
+
+
+def _params_table(j: dict) -> list[str]:
+    lines = [
+        "| parameter | calibrated base | +- | extended | +- |",
+        "|---|---|---|---|---|",
+    ]
+    bp, ep = j["baseline"]["params"], j["extended"]["params"]
+    bu, eu = j["baseline"].get("uncertainty", {}), j["extended"].get("uncertainty", {})
+
+    def fmt(v) -> str:
+        return "" if v is None else (v if isinstance(v, str) else f"{v:.5g}")
+
+    def err(u: dict, k: str) -> str:
+        if k not in u:
+            return ""
+        if not u[k]["identifiable"]:
+            return "not identifiable (held at nominal)"
+        return "" if u[k]["stderr"] is None else f"{u[k]['stderr']:.2g}"
+
+    for k in sorted(set(bp) | set(ep)):
+        lines.append(f"| {k} | {fmt(bp.get(k))} | {err(bu, k)} | {fmt(ep.get(k))} | {err(eu, k)} |")
+    return lines
+
+
+def _markdown(d: Diagnosis, j: dict) -> str:
+    noise = d.sensor_noise_m  # the verdicts are judged against it
+    lines = [f"# Diagnosis of `{d.dataset}`", ""]
+    causes = j["causes"]
+    lines += [_verdict(causes, d, d.chosen.law), ""]
     lines += [
         "| model | validation RMSE | RMSE / noise | step error |",
         "|---|---|---|---|",
@@ -205,43 +245,86 @@ def _markdown(d: Diagnosis, j: dict) -> str:
     lines += [
         "",
         f"Gain of the extension over the calibrated base model: **{100 * j['gain']:.1f} %** of "
-        f"the validation RMSE. Noise: {_nm(noise)} RMS ({d.noise_source}).",
+        f"the validation RMSE. Sensor noise: {_nm(noise)} RMS per sample ({d.noise_source}).",
         "",
         f"Fitted on {', '.join(d.train_ids)}; every figure above is measured on the held-out "
         f"runs {', '.join(d.val_ids)}.",
         "",
-        "## Parameters",
+        "## Friction law",
         "",
-        "| parameter | calibrated base | extended |",
-        "|---|---|---|",
+        "Each law calibrated on the training runs with every parameter the runs can identify "
+        "(a parameter whose standard error exceeds 30 % of its value is held at nominal):",
+        "",
+        "| law | validation RMSE | RMSE / noise | score | not identifiable |",
+        "|---|---|---|---|---|",
     ]
-    bp, ep = j["baseline"]["params"], j["extended"]["params"]
-    for k in sorted(set(bp) | set(ep)):
-        fmt = lambda v: "" if v is None else f"{v:.5g}"  # noqa: E731
-        lines.append(f"| {k} | {fmt(bp.get(k))} | {fmt(ep.get(k))} |")
+    for name, c in sorted(j["friction_laws"].items(), key=lambda kv: kv[1]["score"]):
+        lines.append(
+            f"| {name} | {_nm(c['validation_rmse_m'])} | {c['validation_rmse_m'] / noise:.2f} | "
+            f"{c['score']:.1f} | {', '.join(c['not_identifiable']) or '-'} |"
+        )
+    if d.law_verdict is not None:
+        v = d.law_verdict
+        lines += [
+            "",
+            f"The data prefer {d.best_other_law.law if d.best_other_law else ''}: "
+            + (
+                "confirmed by the guards."
+                if v.confirmed
+                else "not confirmed (" + "; ".join(v.reasons) + ")."
+            ),
+        ]
+    lines += ["", "## Parameters", ""] + _params_table(j)
     lines += [
         "",
-        "## Candidates (each fitted alone with the base parameters, ranked on the validation runs)",
+        "Standard errors from the Jacobian at the optimum, scaled by the reduced chi-square "
+        "where the model does not reach the noise. The residual samples are correlated in time, "
+        "so they are lower bounds; the guards below, not these errors, decide what is named.",
         "",
-        "BIC score on the validation runs, lower is better; a cause is kept when it lowers the "
-        f"score by more than {MIN_BIC_DROP:g} and the mean-square error by more than "
-        f"{100 * MIN_MSE_DROP_OVER_NOISE:g} % of the noise variance.",
+        "## Candidates",
         "",
-        "| cause | validation RMSE | RMSE / noise | score | fitted |",
-        "|---|---|---|---|---|",
-        f"| (calibrated base) | {_nm(d.baseline.val.rmse_m)} | {d.baseline.val.rmse_m / noise:.2f}"
-        f" | {d.baseline.score:.1f} | |",
+        "Each cause fitted on the calibrated "
+        f"{d.base.law} model (with the normal force and mu_s freed again), ranked on the "
+        "validation runs by BIC (lower is better). A cause is named only when it beats the model "
+        f"so far (BIC drop > {MIN_BIC_DROP:g}, mean-square error down by > "
+        f"{100 * MIN_MSE_DROP_OVER_NOISE:g} % of the noise variance) and passes the guards: "
+        "parameters in their physical range, at least "
+        f"{100 * FWD_SHARE:.0f} % of the error above the noise removed (and {100 * FINAL_SHARE:.0f}"
+        " % in the final model), and a gain that carries over to run families it was not fitted "
+        f"on (each frequency and amplitude left out in turn: better in most, by > {CV_MIN_DROP:g} "
+        "noise variances in total).",
+        "",
+        "| candidate | validation RMSE | RMSE / noise | would reduce the error by | score | "
+        "fitted | verdict |",
+        "|---|---|---|---|---|---|---|",
+        f"| (calibrated {d.base.law}) | {_nm(d.base.val.rmse_m)} | "
+        f"{d.base.val.rmse_m / noise:.2f} | | {d.base.score:.1f} | | |",
     ]
     for c in j["candidates"]:
-        ps = ", ".join(f"{k.split('.', 1)[1]}={v:.4g}" for k, v in c["params"].items())
+        ps = ", ".join(
+            f"{k.split('.', 1)[1]}={v:.4g}" if not isinstance(v, str) else v
+            for k, v in c["params"].items()
+        )
+        g = c.get("guards")
+        if c["confirmed"]:
+            verdict = "**named**"
+        elif g is None:
+            verdict = "no clear gain" if c["name"] != FRICTION_LAW else ""
+        else:
+            verdict = "not confirmed: " + "; ".join(g["reasons"])
+        red = c.get("would_reduce_error_by")
         lines.append(
             f"| {c['name']} | {_nm(c['validation_rmse_m'])} | "
-            f"{c['validation_rmse_m'] / noise:.2f} | {c['score']:.1f} | {ps} |"
+            f"{c['validation_rmse_m'] / noise:.2f} | "
+            f"{'' if red is None else f'{100 * red:.0f} %'} | {c['score']:.1f} | {ps} | "
+            f"{verdict} |"
         )
     for i, rnd in enumerate(d.rounds[1:], start=2):
         lines += ["", f"Round {i} (adding to the causes kept so far):", ""]
         for c in rnd:
             lines.append(f"- {' + '.join(c.causes)}: {_nm(c.val.rmse_m)}, score {c.score:.1f}")
+    if d.unexplained:
+        lines += ["", "## What is wrong with the model", ""] + _unexplained(d, j)
     lines += [
         "",
         "## What the simulation gets wrong",
@@ -272,8 +355,54 @@ def _markdown(d: Diagnosis, j: dict) -> str:
         ]
     t = d.timing_s
     lines += [
-        f"Wall time {t.get('total_s', 0):.1f} s (baseline {t.get('baseline_s', 0):.1f} s, "
+        f"Wall time {t.get('total_s', 0):.1f} s (friction laws {t.get('laws_s', 0):.1f} s, "
         f"candidates {t.get('candidates_s', 0):.1f} s, selection {t.get('selection_s', 0):.1f} s).",
         "",
     ]
     return "\n".join(lines)
+
+
+def _unexplained(d: Diagnosis, j: dict) -> list[str]:
+    """Which runs, which phase of the cycle, by how much; and what would help, unconfirmed."""
+    noise = d.sensor_noise_m
+    res = j["residual"]
+    worst = sorted(res["per_run_rmse_m"].items(), key=lambda kv: -kv[1])
+    lines = [
+        f"The final model leaves {_nm(d.chosen.val.rmse_m)} RMS on the held-out runs, "
+        f"{d.chosen.val.rmse_m / noise:.1f} x the noise (more than "
+        f"{UNEXPLAINED_RMSE_OVER_NOISE:g} x is unexplained). By run, all runs (RMS error, "
+        "x noise):",
+        "",
+        "| run | RMS error | x noise |",
+        "|---|---|---|",
+    ]
+    lines += [f"| {k} | {_nm(v)} | {v / noise:.1f} |" for k, v in worst]
+    ph = res["phase_rms_m"]
+    nb = res["phase_bins"]
+    k = int(np.argmax(ph))
+    lines += [
+        "",
+        "Error accumulated since the start of each cycle, RMS by phase within the cycle (0 = "
+        "start of the slow edge; the fast edge is at the end for forward runs, at the start for "
+        "reverse ones):",
+        "",
+        "| phase | " + " | ".join(f"{i / nb:.1f}-{(i + 1) / nb:.1f}" for i in range(nb)) + " |",
+        "|---|" + "---|" * nb,
+        "| RMS | " + " | ".join(_nm(v) for v in ph) + " |",
+        "",
+        f"The largest share builds up in phase {k / nb:.1f}-{(k + 1) / nb:.1f}.",
+        "",
+    ]
+    unconfirmed = [c for c in j["candidates"] if not c["confirmed"] and c.get("guards")]
+    if unconfirmed:
+        lines.append("Candidates that would reduce the error, not confirmed:")
+        lines.append("")
+        for c in unconfirmed:
+            red = c.get("would_reduce_error_by")
+            lines.append(
+                f"- `{c['name']}`"
+                + (f" would reduce the error by {100 * red:.0f} %" if red is not None else "")
+                + ", not confirmed: "
+                + "; ".join(c["guards"]["reasons"])
+            )
+    return lines

@@ -1,0 +1,194 @@
+"""What a cause must show before the diagnosis names it (docs/diagnosis.md, "Guards"):
+
+1. range: its fitted parameters lie in the physical range the catalog documents, off the fit's
+   bounds (a 15 % sensor scale error is the fit absorbing something else, not a sensor);
+2. share: it removes a large share of the error the model it extends leaves above the noise,
+   a pattern of its own, rather than a little of everything (a flexible term always removes a
+   little);
+3. cross-validation over run families: fitted without a whole frequency, or a whole amplitude,
+   it still predicts the runs left out better than the model without it, in most families and in
+   total by more than the noise explains. A term that only absorbs a model-form error on the runs
+   it was fitted to does not carry over to a frequency it has not seen.
+
+The same tests confirm a friction law other than the base law."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..model import ActuatorParams
+from .catalog import CAUSE_PARAMS
+from .fit import (
+    H_THETA,
+    MAX_POINTS_PER_RUN,
+    FitResult,
+    FitRun,
+    Free,
+    Model,
+    build,
+    residuals,
+    specs_for,
+    theta_of,
+)
+
+LM_DAMPING = 1e-2  # Levenberg-Marquardt damping of a fold's first-order refit
+# Evidence on the families left out: the summed squared error must fall by this much (in noise
+# variances; the BIC's "very strong" 10 for a few parameters), and in more than half the folds.
+CV_MIN_DROP = 10.0
+FWD_SHARE = 0.25  # share of the excess error a cause must remove when it is added
+FINAL_SHARE = 0.5  # ... and that it must account for in the final model (backward check)
+
+
+def families(runs: list[FitRun]) -> list[tuple[str, list[int]]]:
+    """Run families to leave out: each frequency, each amplitude. A family holding more than half
+    the runs is not left out: the rest could not identify the model (leaving out 100 V leaves the
+    one or two runs at other amplitudes)."""
+    fam: dict[str, list[int]] = {}
+    for i, r in enumerate(runs):
+        if r.waveform is None:
+            continue
+        fam.setdefault(f"{r.waveform.frequency_hz:g} Hz", []).append(i)
+        fam.setdefault(f"{r.waveform.amplitude_v:g} V", []).append(i)
+    out: dict[tuple[int, ...], str] = {}
+    for k, v in fam.items():
+        if 0 < len(v) <= len(runs) // 2:  # the same runs under two names: one fold, both names
+            out[tuple(v)] = f"{out[tuple(v)]} = {k}" if tuple(v) in out else k
+    return [(k, list(v)) for v, k in out.items()]
+
+
+@dataclass
+class FoldResult:
+    family: str
+    rss_without: float  # summed squared error on the family left out, in noise variances
+    rss_with: float
+    n: int
+
+
+@dataclass
+class Linearization:
+    """A fitted model's residual on every run (every k-th sample, over noise) and its Jacobian
+    against the fit's free parameters: enough to refit it without any run family to first order."""
+
+    r: np.ndarray
+    jac: np.ndarray
+    run_of_row: np.ndarray  # index of the run each row belongs to
+
+
+def _column_step(theta: np.ndarray, specs, i: int) -> float:
+    return H_THETA if theta[i] + H_THETA <= specs[i].bounds()[1] else -H_THETA
+
+
+def linearize_column(
+    runs: list[FitRun], nominal: ActuatorParams, model: Model, free: Free, noise_m: float, i: int
+) -> np.ndarray:
+    """Residual of the model on runs with free parameter i moved by one finite-difference step
+    (i = -1: unmoved). One job per column, so that an executor spreads them."""
+    specs = specs_for(nominal, free)
+    theta = theta_of(model, specs)
+    if i >= 0:
+        theta[i] += _column_step(theta, specs, i)
+    every = [max(1, len(r.x_m) // MAX_POINTS_PER_RUN) for r in runs]
+    return residuals(runs, build(model, free, theta, specs), noise_m, every)
+
+
+def assemble(
+    runs: list[FitRun], nominal: ActuatorParams, model: Model, free: Free, cols: list[np.ndarray]
+) -> Linearization:
+    """The linearization from linearize_column's results (-1 first, then each parameter)."""
+    specs = specs_for(nominal, free)
+    theta = theta_of(model, specs)
+    r0 = cols[0]
+    jac = np.zeros((len(r0), len(specs)))
+    for i, c in enumerate(cols[1:]):
+        jac[:, i] = (c - r0) / _column_step(theta, specs, i)
+    every = [max(1, len(r.x_m) // MAX_POINTS_PER_RUN) for r in runs]
+    run_of_row = np.concatenate(
+        [np.full(len(r.x_m[::k]), i) for i, (r, k) in enumerate(zip(runs, every))]
+    )
+    return Linearization(r0, jac, run_of_row)
+
+
+def fold_rss(a: Linearization, held: list[int]) -> tuple[float, int]:
+    """Refit to first order without the held runs (one Gauss-Newton step from the fitted point,
+    damped as Levenberg-Marquardt so that a parameter the rest cannot pin down stays put), and
+    the summed squared residual predicted on the held runs, in noise variances."""
+    out = np.isin(a.run_of_row, held)
+    j, r = a.jac[~out], a.r[~out]
+    if j.shape[1]:
+        jtj = j.T @ j
+        delta = np.linalg.solve(jtj + LM_DAMPING * np.diag(np.diag(jtj) + 1e-12), -j.T @ r)
+        pred = a.r[out] + a.jac[out] @ delta
+    else:
+        pred = a.r[out]
+    return float(np.sum(pred**2)), int(np.sum(out))
+
+
+@dataclass
+class Verdict:
+    """The guards' findings on one cause (or friction law) added to a model."""
+
+    in_range: bool = True
+    share: float = 0.0  # of the excess validation error removed
+    folds: list[FoldResult] = field(default_factory=list)
+    reasons: list[str] = field(default_factory=list)
+
+    @property
+    def cv_drop(self) -> float:
+        return sum(f.rss_without - f.rss_with for f in self.folds)
+
+    @property
+    def cv_wins(self) -> int:
+        return sum(f.rss_with < f.rss_without for f in self.folds)
+
+    @property
+    def confirmed(self) -> bool:
+        return not self.reasons
+
+    def to_json(self) -> dict:
+        return {
+            "confirmed": self.confirmed,
+            "reasons": self.reasons,
+            "share_removed": self.share,
+            "cross_validation": [
+                {
+                    "left_out": f.family,
+                    "mse_without": f.rss_without / f.n,
+                    "mse_with": f.rss_with / f.n,
+                }
+                for f in self.folds
+            ],
+        }
+
+
+def range_problems(f: FitResult, causes: tuple[str, ...]) -> list[str]:
+    out = []
+    for c in causes:
+        for p in CAUSE_PARAMS[c]:
+            v = f.model.effects.__getattribute__(p.name)
+            if p.name in f.at_bound:
+                out.append(f"{c}.{p.name} = {v:.4g} is at the fit's bound")
+            elif p.phys is not None and not p.phys[0] <= v <= p.phys[1]:
+                out.append(
+                    f"{c}.{p.name} = {v:.4g} is outside its physical range "
+                    f"[{p.phys[0]:.4g}, {p.phys[1]:.4g}]"
+                )
+    return out
+
+
+def share_removed(mse_without: float, mse_with: float) -> float:
+    """Share of the error above the noise (both in noise variances) that the addition removes."""
+    excess = mse_without - 1.0
+    return (mse_without - mse_with) / excess if excess > 0 else 0.0
+
+
+def judge_cv(v: Verdict) -> None:
+    if not v.folds:
+        return
+    if v.cv_drop <= CV_MIN_DROP or 2 * v.cv_wins <= len(v.folds):
+        v.reasons.append(
+            f"does not carry over to run families it was not fitted on: better on "
+            f"{v.cv_wins} of {len(v.folds)} left-out families, summed error change "
+            f"{-v.cv_drop:+.1f} noise variances"
+        )

@@ -1,0 +1,84 @@
+"""Hidden-effect tests on data our code did not make: datasets from the independent generator
+(stickslip.independent: float64, its own friction laws and effects, no code shared with lib/),
+the issue's 13-run design at 250 kS/s, diagnosed blind.
+
+- clean data from a law we do not have (Al-Bender's GMS, another reading of the LS paper) names
+  no catalog effect: none, parameter_miscalibration or friction_law only;
+- a hidden effect is the first catalog cause named (friction_law may come first: the contact is
+  LuGre's, not LS's), with its strength recovered;
+- an effect outside the catalog is unexplained and names no catalog effect.
+
+CI runs these cases with one seed each; bench/diagnosis_bench.py --generator independent runs
+every case over many seeds (BENCHMARKS.md)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from stickslip import independent
+from stickslip.diagnosis.catalog import CAUSES
+from stickslip.diagnosis.pipeline import diagnose
+
+NOT_EFFECTS = {"none", "parameter_miscalibration", "friction_law"}
+RATE_HZ = 250e3
+SEED = 100
+_DONE: dict = {}
+
+
+@pytest.fixture(scope="module")
+def executor():
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(max_workers=2) as ex:
+        yield ex
+
+
+def _run(tmp_path, law: str, effects: tuple[str, ...], executor, seed: int = SEED):
+    key = (law, effects, seed)
+    if key not in _DONE:
+        rng = np.random.default_rng(seed)
+        drawn = {e: independent.draw_effect(e, rng) for e in effects}
+        path = tmp_path / "ds"
+        truth = independent.generate(
+            path, law=law, effects=drawn, seed=seed, sample_rate_hz=RATE_HZ
+        )
+        _DONE[key] = (truth, diagnose(path, executor=executor).to_json())
+    return _DONE[key]
+
+
+@pytest.mark.parametrize("law", ["gms", "ls_b"])
+def test_clean_data_of_another_law_names_no_effect(tmp_path, executor, law):
+    _, j = _run(tmp_path, law, (), executor)
+    named = [c for c in j["causes"] if c not in NOT_EFFECTS]
+    assert named == [], (j["causes"], [(c["name"], c.get("guards")) for c in j["candidates"][:3]])
+    # every candidate that would have reduced the error says why it was not named
+    for c in j["candidates"]:
+        if c["name"] in CAUSES and c.get("guards"):
+            assert not c["confirmed"] and c["guards"]["reasons"]
+
+
+def test_slew_limit_is_found_where_the_outside_test_missed_it(tmp_path, executor):
+    # the outside test's miss: a slew limit fitted to 3 % but ranked fifth behind a base model
+    # calibrated to N = 22 N
+    truth, j = _run(tmp_path, "lugre", ("amplifier_slew_limit",), executor)
+    named = [c for c in j["causes"] if c not in NOT_EFFECTS]
+    assert named[:1] == ["amplifier_slew_limit"], j["causes"]
+    got = j["extended"]["params"]["amplifier_slew_limit.slew_v_per_s"]
+    want = truth["effects"]["amplifier_slew_limit"]["slew_v_per_s"]
+    assert got == pytest.approx(want, rel=0.05)
+    assert j["gain"] > 0.9
+
+
+def test_external_load_is_named_first(tmp_path, executor):
+    truth, j = _run(tmp_path, "lugre", ("external_load",), executor)
+    named = [c for c in j["causes"] if c not in NOT_EFFECTS]
+    assert named[:1] == ["external_load"], j["causes"]
+    got = j["extended"]["params"]["external_load.load_n"]
+    assert got == pytest.approx(truth["effects"]["external_load"]["load_n"], rel=0.1)
+
+
+def test_sensor_error_outside_the_catalog_is_unexplained(tmp_path, executor):
+    _, j = _run(tmp_path, "lugre", ("sensor_periodic_error",), executor)
+    assert j["unexplained"]
+    assert [c for c in j["causes"] if c not in NOT_EFFECTS] == [], j["causes"]
