@@ -190,5 +190,5 @@ def judge_cv(v: Verdict) -> None:
         v.reasons.append(
             f"does not carry over to run families it was not fitted on: better on "
             f"{v.cv_wins} of {len(v.folds)} left-out families, summed error change "
-            f"{-v.cv_drop:+.1f} noise variances"
+            f"{-v.cv_drop:+.3g} noise variances"
         )

@@ -284,7 +284,8 @@ def _markdown(d: Diagnosis, j: dict) -> str:
         "## Candidates",
         "",
         "Each cause fitted on the calibrated "
-        f"{d.base.law} model (with the normal force and mu_s freed again), ranked on the "
+        f"{d.base.law} model (every base parameter its calibration identified freed again; the "
+        "causes first screened to first order and only the promising ones fitted), ranked on the "
         "validation runs by BIC (lower is better). A cause is named only when it beats the model "
         f"so far (BIC drop > {MIN_BIC_DROP:g}, mean-square error down by > "
         f"{100 * MIN_MSE_DROP_OVER_NOISE:g} % of the noise variance) and passes the guards: "
@@ -308,10 +309,12 @@ def _markdown(d: Diagnosis, j: dict) -> str:
         g = c.get("guards")
         if c["confirmed"]:
             verdict = "**named**"
-        elif g is None:
-            verdict = "no clear gain" if c["name"] != FRICTION_LAW else ""
-        else:
+        elif g is not None:
             verdict = "not confirmed: " + "; ".join(g["reasons"])
+        elif c.get("screened_only"):
+            verdict = "screened to first order, not fitted (figures predicted)"
+        else:
+            verdict = "not put to the guards" if c["name"] != FRICTION_LAW else ""
         red = c.get("would_reduce_error_by")
         lines.append(
             f"| {c['name']} | {_nm(c['validation_rmse_m'])} | "
