@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import multiprocessing
 import subprocess
 import sys
 from concurrent.futures import ProcessPoolExecutor
@@ -37,7 +38,10 @@ class CountingExecutor(ProcessPoolExecutor):
 
 @pytest.fixture(scope="module")
 def executor():
-    with CountingExecutor(max_workers=2) as ex:
+    # spawned, not forked: a forked worker inherits coverage's tracer from the test process and
+    # runs the fits several times slower (the fit code is covered in-process by the guard tests
+    # and the calls the diagnosis makes itself)
+    with CountingExecutor(max_workers=2, mp_context=multiprocessing.get_context("spawn")) as ex:
         yield ex
 
 
@@ -56,9 +60,9 @@ def _run(tmp_path, causes, seed=SEED, miscalibrate=False, executor=None, law="ls
 
 
 # piezo_creep is the CLI test's case (test_cli_writes_report_and_json), with the same checks; the
-# other causes run in the bench (a direction split, a frequency-dependent loss, an amplitude-
-# dependent loss and a uniform scale stand for the catalog's kinds of signature here)
-CI_CAUSES = ("external_load", "amplifier_slew_limit", "piezo_hysteresis", "sensor_scale_error")
+# other causes run in the bench (a direction split, a frequency-dependent loss and an amplitude-
+# dependent loss stand for the catalog's kinds of signature here)
+CI_CAUSES = ("external_load", "amplifier_slew_limit", "piezo_hysteresis")
 
 
 @pytest.mark.parametrize("cause", CI_CAUSES)

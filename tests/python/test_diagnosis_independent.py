@@ -9,9 +9,12 @@ the issue's 13-run design at 250 kS/s, diagnosed blind.
 - an effect outside the catalog is unexplained and names no catalog effect.
 
 CI runs these cases with one seed each; bench/diagnosis_bench.py --generator independent runs
-every case over many seeds (BENCHMARKS.md)."""
+every case, clean GMS and LuGre contacts included, over many seeds (BENCHMARKS.md)."""
 
 from __future__ import annotations
+
+import multiprocessing
+from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 import pytest
@@ -28,9 +31,9 @@ _DONE: dict = {}
 
 @pytest.fixture(scope="module")
 def executor():
-    from concurrent.futures import ProcessPoolExecutor
-
-    with ProcessPoolExecutor(max_workers=2) as ex:
+    # spawned, not forked: a forked worker would inherit coverage's tracer (test_diagnosis.py)
+    ctx = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=2, mp_context=ctx) as ex:
         yield ex
 
 
@@ -47,7 +50,8 @@ def _run(tmp_path, law: str, effects: tuple[str, ...], executor, seed: int = SEE
     return _DONE[key]
 
 
-@pytest.mark.parametrize("law", ["gms", "ls_b"])
+# CI: the ls_b reading (the outside test's own situation); GMS and LuGre run in the bench
+@pytest.mark.parametrize("law", ["ls_b"])
 def test_clean_data_of_another_law_names_no_effect(tmp_path, executor, law):
     _, j = _run(tmp_path, law, (), executor)
     named = [c for c in j["causes"] if c not in NOT_EFFECTS]
