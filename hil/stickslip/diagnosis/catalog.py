@@ -66,10 +66,6 @@ LAW_PARAMS: dict[str, tuple[str, ...]] = {
     "lugre": tuple(BASE_FACTOR),
     "gms": tuple(k for k in BASE_FACTOR if k != "sigma1_ns_per_m"),
 }
-# The two that set the step size (Fc against the slider's inertia on the fast edge, Fs at
-# break-away): freed with every cause, so that an effect the base model lacks cannot leave them
-# biased. The other base parameters stay at their calibrated values while causes are fitted.
-STRONG_PARAMS: tuple[str, ...] = ("normal_force_n", "stribeck_excess")
 
 
 def base_param(name: str, nominal_value: float) -> Param:

@@ -281,7 +281,7 @@ def covariance(jac: np.ndarray, chi2_red: float) -> np.ndarray:
 
 
 def _uncertainty(
-    jac: np.ndarray, fun: np.ndarray, theta: np.ndarray, specs: list[Param], model: Model
+    jac: np.ndarray, fun: np.ndarray, specs: list[Param], model: Model
 ) -> tuple[dict[str, float], dict[str, dict[str, float]]]:
     n, k = jac.shape
     cov = covariance(jac, float(np.sum(fun**2)) / max(1, n - k))
@@ -298,7 +298,7 @@ def _uncertainty(
 
 
 def _value_of(model: Model, s: Param) -> float:
-    if s.name in ("stribeck_excess",) or hasattr(model.params, s.name):
+    if s.name == "stribeck_excess" or hasattr(model.params, s.name):
         return model.base_value(s.name)
     return float(getattr(model.effects, s.name))
 
@@ -396,7 +396,7 @@ def fit(
         theta0_arr = solve(theta0_arr, True, max_nfev, 1e-3).x
     res = solve(theta0_arr, False, max_nfev if polish else max(10, max_nfev // 2), 1e-5)
     model = build(start, free, res.x, specs)
-    stderr, corr = _uncertainty(res.jac, res.fun, res.x, specs, model)
+    stderr, corr = _uncertainty(res.jac, res.fun, specs, model)
     at_bound = tuple(
         s.name
         for s, t, a, b in zip(specs, res.x, lo, hi)

@@ -335,7 +335,6 @@ class _Session:
         self.laws: tuple[str, ...] = ()  # the laws calibrated
         # per parent: the promising causes screened on it and not fitted yet, best first
         self.pending: dict[int, tuple[Candidate, list[Screened]]] = {}
-        self.law_switches: list[tuple[str, str, Verdict]] = []  # law changes once causes were kept
         # the smallest fall of the mean-square error worth a fit, in fit-noise variances
         self.min_mse_drop = MIN_MSE_DROP_OVER_NOISE * (self.sensor_noise_m / noise_m) ** 2
         self.verdicts: dict[str, Verdict] = {}  # per cause: the guards' last word
@@ -753,7 +752,6 @@ def _rechoose_law(s: _Session, chosen: Candidate) -> Candidate:
     if not v.confirmed:
         return chosen
     best.verdict = chosen.verdict
-    s.law_switches.append((chosen.law, best.law, v))
     return best
 
 
