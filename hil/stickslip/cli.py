@@ -331,7 +331,7 @@ def cmd_hil_firmware_q(a: argparse.Namespace) -> int:
 
 
 def cmd_diagnose(a: argparse.Namespace) -> int:
-    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures import ThreadPoolExecutor
 
     from .diagnosis.pipeline import diagnose
     from .diagnosis.report import write_report
@@ -340,7 +340,7 @@ def cmd_diagnose(a: argparse.Namespace) -> int:
         raise CliError(f"--workers must be >= 1, got {a.workers}")
     # a live status line: what the pipeline is doing now, and for how long
     with Progress("diagnosing", total=None, quiet=a.quiet) as bar:
-        with ProcessPoolExecutor(max_workers=a.workers) as ex:
+        with ThreadPoolExecutor(max_workers=a.workers) as ex:
             d = diagnose(a.dataset, executor=ex, progress=bar.status)
         bar.status("writing the report")
         report = write_report(d, a.out)
@@ -420,7 +420,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--workers",
         type=int,
         default=max(1, min(os.cpu_count() or 1, 8)),
-        help="local processes for the simulations (default: the CPU count, at most 8)",
+        help="fits run at once, in threads (the C model releases the GIL; each fit also spreads"
+        " its runs over the cores) (default: the CPU count, at most 8)",
     )
     _add_quiet_option(dg)
     dg.set_defaults(func=cmd_diagnose)

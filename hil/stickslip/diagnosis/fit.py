@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import itertools
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, replace
 from functools import cache
 
@@ -164,6 +166,38 @@ def predict(run: FitRun, model: Model) -> np.ndarray:
     return x + float(np.mean(run.x_m - x))
 
 
+# One pool of simulation threads per process (the C core releases the GIL and keeps no state
+# between calls): every evaluation spreads its runs over the cores, so that a fit running alone
+# (a refinement, the law check) does not leave a core idle. Keyed by process id: a forked
+# worker must not inherit its parent's pool, whose threads did not survive the fork.
+_SIM_POOLS: dict[int, ThreadPoolExecutor] = {}
+
+
+def _sim_pool() -> ThreadPoolExecutor:
+    pid = os.getpid()
+    if pid not in _SIM_POOLS:
+        _SIM_POOLS[pid] = ThreadPoolExecutor(max_workers=max(1, min(os.cpu_count() or 1, 8)))
+    return _SIM_POOLS[pid]
+
+
+def _predict_or_far(run: FitRun, model: Model) -> np.ndarray:
+    try:
+        return predict(run, model)
+    except ValueError:  # a parameter the C library rejects: far off, not a crash
+        return np.full(len(run.x_m), 1.0)
+
+
+def predict_all(runs: list[FitRun], model: Model, far_on_error: bool = False) -> list[np.ndarray]:
+    """predict() on every run, the runs spread over the simulation threads (longest first).
+    far_on_error: a model the C library rejects gives a position of 1 m instead of an error."""
+    fn = _predict_or_far if far_on_error else predict
+    if len(runs) < 2:
+        return [fn(r, model) for r in runs]
+    order = sorted(range(len(runs)), key=lambda i: -len(runs[i].x_m))
+    futs = {i: _sim_pool().submit(fn, runs[i], model) for i in order}
+    return [futs[i].result() for i in range(len(runs))]
+
+
 @dataclass(frozen=True)
 class Free:
     """What a fit frees: base parameters by name, and causes (each with all its parameters)."""
@@ -223,11 +257,7 @@ def residuals(
     sample from the start of its period instead: the residual no longer accumulates over a run,
     which keeps the cost smooth far from the optimum (a fit's first stage)."""
     parts = []
-    for run, k in zip(runs, every):
-        try:
-            x = predict(run, model)
-        except ValueError:  # a parameter the C library rejects: far off, not a crash
-            x = np.full(len(run.x_m), 1.0)
+    for run, k, x in zip(runs, every, predict_all(runs, model, far_on_error=True)):
         r = x - run.x_m
         refs = _cycle_refs(run) if per_cycle else None
         if refs is not None:
@@ -445,8 +475,7 @@ def cycle_steps(run: FitRun, x: np.ndarray) -> np.ndarray:
 def evaluate(runs: list[FitRun], model: Model, noise_m: float) -> Evaluation:
     rss, n, step_rel = 0.0, 0, []
     per_run = {}
-    for run in runs:
-        x = predict(run, model)
+    for run, x in zip(runs, predict_all(runs, model)):
         r = x - run.x_m
         rss += float(np.sum(r**2))
         n += len(r)

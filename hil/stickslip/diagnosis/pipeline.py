@@ -8,7 +8,7 @@ import math
 import os
 import time
 from collections.abc import Callable
-from concurrent.futures import Executor, Future, ProcessPoolExecutor
+from concurrent.futures import Executor, Future, ThreadPoolExecutor
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -27,7 +27,7 @@ from .fit import (
     evaluate,
     filter_noise_gain,
     fit,
-    predict,
+    predict_all,
     prepare,
 )
 from .guards import (
@@ -317,7 +317,9 @@ def _fit_and_validate(
 
 
 def default_executor() -> Executor:
-    return ProcessPoolExecutor(max_workers=max(1, min(os.cpu_count() or 1, 8)))
+    """Threads: the C core releases the GIL, and a thread needs no copy of the runs (a process
+    pool pickles every run into every job)."""
+    return ThreadPoolExecutor(max_workers=max(1, min(os.cpu_count() or 1, 8)))
 
 
 class _Session:
@@ -338,6 +340,7 @@ class _Session:
         # the smallest fall of the mean-square error worth a fit, in fit-noise variances
         self.min_mse_drop = MIN_MSE_DROP_OVER_NOISE * (self.sensor_noise_m / noise_m) ** 2
         self.verdicts: dict[str, Verdict] = {}  # per cause: the guards' last word
+        self.calibrated: dict[str, Candidate] = {}  # per law: its calibration
 
     def cand(self, f: FitResult, v: Evaluation, parent=None, held=None) -> Candidate:
         if held is not None:  # a law's calibration: what it fitted is what causes free again
@@ -538,6 +541,7 @@ def diagnose(
         for law, fu in futs.items():
             f, held, v = fu.result()
             cal[law] = s.cand(f, v, held=held)
+        s.calibrated = cal
         baseline = cal[BASE_LAW]
         base, law_verdict = baseline, None
         others = [c for n, c in cal.items() if n != BASE_LAW]
@@ -706,6 +710,12 @@ def _backward(s: _Session, chosen: Candidate) -> Candidate:
         for c, fu in futs.items():
             f, v = fu.result()
             reduced = s.cand(f, v, parent=chosen.parent)
+            # the model without it is the best one known without it: a refit from the chosen
+            # point keeps base parameters the cause bent, and a cause that only pulled the fit
+            # out of the calibration's optimum would then look needed
+            cal = s.calibrated.get(chosen.law)
+            if len(chosen.causes) == 1 and cal is not None and cal.score < reduced.score:
+                reduced = cal
             share = share_removed(reduced.mse_over_noise, chosen.mse_over_noise)
             if not s.better(chosen, reduced):
                 weakest, reason = (c, reduced), "the model without it is as good"
@@ -773,8 +783,7 @@ def residual_summary(runs: list[FitRun], model: Model, noise_m: float) -> dict:
     """Where the model misses, for the report: RMS error of every run, and RMS of the error
     accumulated since the start of each cycle against the phase within the cycle."""
     per_run, sums, counts = {}, np.zeros(PHASE_BINS), np.zeros(PHASE_BINS)
-    for r in runs:
-        x = predict(r, model)
+    for r, x in zip(runs, predict_all(runs, model)):
         res = x - r.x_m
         per_run[r.id] = float(np.sqrt(np.mean(res**2)))
         w = r.waveform
