@@ -100,6 +100,61 @@ def test_cross_validation_needs_most_families_and_a_total_gain():
     assert not tiny.confirmed  # wins everywhere, by less than the noise explains
 
 
+def test_cross_validation_refuses_a_term_that_spoils_a_family():
+    """The fold figures (noise variances) of three diagnoses of independent-generator data."""
+
+    def verdict(rows):
+        v = Verdict(folds=[FoldResult(name, a, b, n) for name, a, b, n in rows])
+        judge_cv(v)
+        return v
+
+    # clean ls_b data: a "hysteresis" wins 4 of 7 folds and spoils 100 Hz, 50 V and 75 V
+    spurious = verdict(
+        [
+            ("100 Hz", 4.22e8, 9.22e8, 3002),
+            ("300 Hz", 4.88e7, 3.59e7, 3834),
+            ("500 Hz", 1.13e9, 7.48e8, 10004),
+            ("1000 Hz", 1.49e9, 6.62e8, 4603),
+            ("2000 Hz", 1.79e8, 1.09e8, 2002),
+            ("50 V", 5.60e7, 1.31e8, 2501),
+            ("75 V", 1.84e7, 5.78e7, 2501),
+        ]
+    )
+    assert not spurious.confirmed
+    assert "100 Hz (2.2 x), 50 V (2.3 x), 75 V (3.1 x)" in spurious.reasons[0]
+    # a true load under a misfitting law: one fold's first-order refit misses, six gain >= 2.4 x
+    load = verdict(
+        [
+            ("100 Hz", 2.67e9, 1.15e7, 3002),
+            ("300 Hz", 3.62e9, 6.60e6, 3834),
+            ("500 Hz", 5.88e9, 9.55e7, 10004),
+            ("1000 Hz", 1.42e10, 2.42e10, 4603),
+            ("2000 Hz", 1.64e9, 6.99e8, 2002),
+            ("50 V", 3.22e7, 5.63e6, 2501),
+            ("75 V", 6.18e8, 4.51e6, 2501),
+        ]
+    )
+    assert load.confirmed, load.reasons
+    # miscalibrated clean LuGre: a "slew limit" spoils 50 V and barely helps 75 V: not excused
+    slew = verdict(
+        [
+            ("100 Hz", 19019.0, 12038.0, 3002),
+            ("300 Hz", 507343.0, 93490.0, 3834),
+            ("500 Hz", 1119192.0, 232823.0, 10004),
+            ("1000 Hz", 8810121.0, 163610.0, 4603),
+            ("2000 Hz", 55562.0, 31429.0, 2002),
+            ("50 V", 4101.0, 11769.0, 2501),
+            ("75 V", 40623.0, 40420.0, 2501),
+        ]
+    )
+    assert not slew.confirmed and "50 V (2.9 x)" in slew.reasons[0]
+    # worse by more than 1.5 x but by less than a noise variance per sample: noise, not harm
+    near_noise = verdict(
+        [(f"f{i}", 500.0, 100.0, 100) for i in range(4)] + [("g", 50.0, 90.0, 100)]
+    )
+    assert near_noise.confirmed
+
+
 def test_unidentifiable_drops_a_dead_parameter_and_one_of_a_degenerate_pair():
     nominal = ActuatorParams.table1()
     names = ("normal_force_n", "sigma0_n_per_m", "stribeck_velocity_m_per_s", "sigma2_ns_per_m")

@@ -15,7 +15,7 @@ import numpy as np  # noqa: E402
 from .. import dataset as D  # noqa: E402
 from .catalog import CAUSES, FRICTION_LAW, FRICTION_LAW_TEXT  # noqa: E402
 from .fit import FitRun, Model, cycle_steps, predict, prepare  # noqa: E402
-from .guards import CV_MIN_DROP, FINAL_SHARE, FWD_SHARE  # noqa: E402
+from .guards import CV_MAX_HARM, CV_MIN_DROP, FINAL_SHARE, FWD_SHARE  # noqa: E402
 from .pipeline import (  # noqa: E402
     MIN_BIC_DROP,
     MIN_MSE_DROP_OVER_NOISE,
@@ -293,7 +293,7 @@ def _markdown(d: Diagnosis, j: dict) -> str:
         f"{100 * FWD_SHARE:.0f} % of the error above the noise removed (and {100 * FINAL_SHARE:.0f}"
         " % in the final model), and a gain that carries over to run families it was not fitted "
         f"on (each frequency and amplitude left out in turn: better in most, by > {CV_MIN_DROP:g} "
-        "noise variances in total).",
+        f"noise variances in total, and none worse by more than {CV_MAX_HARM:g} x).",
         "",
         "| candidate | validation RMSE | RMSE / noise | would reduce the error by | score | "
         "fitted | verdict |",
