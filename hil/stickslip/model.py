@@ -298,6 +298,31 @@ class SimResult:
         )
 
 
+def major_loop_gain(params: ActuatorParams, effects: Effects, stroke_v: float) -> ActuatorParams:
+    """The parameters with the ideal strain's gain raised so that a piezo with the hysteresis of
+    `effects` strokes the nominal gain x stroke_v over its major loop (0 -> stroke_v -> 0).
+
+    A stack's gain is known from the stroke it makes at its rated voltage, and that stroke is
+    measured through the hysteresis. The C model's Bouc-Wen loop on the ideal strain (docs/
+    effects.md) costs the loop's full width in stroke, 2 h_top with h_top = alpha width
+    tanh(S / 2 width) on a symmetric loop of ideal stroke S: without this, the same nominal gain
+    describes a stack that strokes less by that width at every amplitude. stroke_v <= 0, or no
+    hysteresis: params as they are."""
+    a, w = effects.hysteresis_alpha, effects.hysteresis_width_m
+    g = params.piezo_gain_m_per_v
+    if stroke_v <= 0 or a <= 0 or w <= 0:
+        return params
+    target = g * stroke_v
+    s = target
+    for _ in range(50):  # Newton on S - 2 a w tanh(S / 2w) = target (slope >= 1 - a > 0)
+        t = math.tanh(s / (2.0 * w))
+        step = (s - 2.0 * a * w * t - target) / (1.0 - a * (1.0 - t * t))
+        s -= step
+        if abs(step) <= 1e-13 * target:
+            break
+    return replace(params, piezo_gain_m_per_v=s / stroke_v)
+
+
 def _si_from_q(cols: dict[str, np.ndarray], model: str) -> dict[str, np.ndarray]:
     """The q core's integer columns in SI (float64), each times its Q format's scale."""
     state_a, state_b = N.TRACE_Q_STATES[model]

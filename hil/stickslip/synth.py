@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from . import dataset as D
-from .model import ActuatorParams, Effects, Sawtooth, simulate
+from .model import ActuatorParams, Effects, Sawtooth, major_loop_gain, simulate
 
 SAMPLE_INTERVAL_S = 20e-6  # 50 kS/s: 5 samples on a 100 us fast edge
 HOLD_S = 0.01  # recorded after the last period, drive at offset: creep and ringing settle
@@ -132,11 +132,13 @@ def generate(
     design = design or standard_design()
     runs = []
     x_start = 0.0
+    # the nominal gain is the stroke over the largest amplitude's major loop, hysteresis and all
+    params = major_loop_gain(truth.params, truth.effects, max(rd.amplitude_v for rd in design))
     for rd in design:
         w = rd.waveform()
         sim = simulate(
             w,
-            truth.params,
+            params,
             hold_s=HOLD_S,
             decimation=int(round(SAMPLE_INTERVAL_S / 1e-6)),
             effects=truth.effects,

@@ -135,6 +135,19 @@ def test_cross_validation_refuses_a_term_that_spoils_a_family():
         ]
     )
     assert load.confirmed, load.reasons
+    # a true hysteresis under the same misfitting law: 1.9-28 x better on six families
+    hysteresis = verdict(
+        [
+            ("100 Hz", 1.07e8, 2.50e7, 3002),
+            ("300 Hz", 1.09e9, 4.04e7, 3834),
+            ("500 Hz", 9.68e9, 3.47e8, 10004),
+            ("1000 Hz", 1.24e9, 2.24e9, 4603),
+            ("2000 Hz", 1.88e9, 1.98e8, 2002),
+            ("50 V", 1.19e9, 2.20e8, 2501),
+            ("75 V", 7.51e8, 3.95e8, 2501),
+        ]
+    )
+    assert hysteresis.confirmed, hysteresis.reasons
     # miscalibrated clean LuGre: a "slew limit" spoils 50 V and barely helps 75 V: not excused
     slew = verdict(
         [

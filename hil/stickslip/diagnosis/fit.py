@@ -21,7 +21,7 @@ from scipy.optimize import least_squares
 from scipy.signal import resample_poly
 
 from ..dataset import Run
-from ..model import ActuatorParams, Effects, Sawtooth, simulate
+from ..model import ActuatorParams, Effects, Sawtooth, major_loop_gain, simulate
 from .catalog import CAUSE_FIXED, CAUSE_PARAMS, CAUSE_START, Param, base_param
 
 MAX_DT_S = 1e-6  # the model's step: converged to 0.08 % per cycle (docs/model.md)
@@ -49,6 +49,9 @@ class FitRun:
     drive_v: np.ndarray
     drive_dt_s: float
     decimation: int  # measured samples per fit sample
+    # the dataset's largest drive amplitude: a hysteresis keeps the nominal stroke over it
+    # (model.major_loop_gain)
+    stroke_v: float = 0.0
 
 
 @cache
@@ -60,15 +63,32 @@ def filter_noise_gain(q: int) -> float:
     return float(np.std(resample_poly(w, 1, q)[100:-100]))
 
 
-def prepare(run: Run) -> FitRun:
+def major_loop_v(runs: list[Run]) -> float:
+    """The largest drive amplitude of a dataset (V): the major loop its nominal gain strokes."""
+    return max(
+        (r.waveform.amplitude_v if r.waveform else float(np.ptp(r.drive_v)) for r in runs),
+        default=0.0,
+    )
+
+
+def prepare(run: Run, stroke_v: float = 0.0) -> FitRun:
     """Filter and decimate a run to at most MAX_FIT_RATE_HZ (polyphase FIR, zero phase, linear
-    extension at the ends so a run's offset and drift are not pulled toward zero)."""
+    extension at the ends so a run's offset and drift are not pulled toward zero). stroke_v:
+    major_loop_v of its dataset."""
     q = max(1, math.ceil(1.0 / (run.dt_s * MAX_FIT_RATE_HZ) - 1e-9))
     x = run.x_m if q == 1 else resample_poly(run.x_m, 1, q, padtype="line")
     t = run.t_s[::q]
     n = min(len(t), len(x))
     return FitRun(
-        run.id, t[:n], np.asarray(x[:n]), run.dt_s * q, run.waveform, run.drive_v, run.dt_s, q
+        run.id,
+        t[:n],
+        np.asarray(x[:n]),
+        run.dt_s * q,
+        run.waveform,
+        run.drive_v,
+        run.dt_s,
+        q,
+        stroke_v,
     )
 
 
@@ -129,6 +149,7 @@ def predict(run: FitRun, model: Model) -> np.ndarray:
     """What the sensor would have reported at the run's fit sample times under this model. The
     slider's start is a nuisance offset per run, placed by least squares over the whole run."""
     dt, dec = sim_step_s(run)
+    params = major_loop_gain(model.params, model.effects, run.stroke_v)
     scale = 1.0 + model.effects.sensor_scale_error
     x0 = float(run.x_m[0]) / scale
     n = len(run.t_s) - 1
@@ -136,7 +157,7 @@ def predict(run: FitRun, model: Model) -> np.ndarray:
         hold = max(0.0, n * run.dt_s - run.waveform.duration_s)
         r = simulate(
             run.waveform,
-            model.params,
+            params,
             model=model.law,
             dt_s=dt,
             hold_s=hold,
@@ -147,7 +168,7 @@ def predict(run: FitRun, model: Model) -> np.ndarray:
     else:
         r = simulate(
             None,
-            model.params,
+            params,
             model=model.law,
             dt_s=dt,
             decimation=dec,

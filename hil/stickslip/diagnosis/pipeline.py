@@ -27,6 +27,7 @@ from .fit import (
     evaluate,
     filter_noise_gain,
     fit,
+    major_loop_v,
     predict_all,
     prepare,
 )
@@ -515,7 +516,7 @@ def diagnose(
     say = progress or (lambda msg: None)
     t_start = time.perf_counter()
     ds = D.load(path)  # validated whole before anything runs
-    runs = [prepare(r) for r in ds.runs]
+    runs = [prepare(r, major_loop_v(ds.runs)) for r in ds.runs]
     train, val = split_runs(runs)
     nominal_params: ActuatorParams = ds.actuator
     timing: dict[str, float] = {}
