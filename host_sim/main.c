@@ -26,6 +26,10 @@ static const scenario_t SCENARIOS[] = {
 };
 #define N_SCENARIOS (sizeof SCENARIOS / sizeof SCENARIOS[0])
 #define CHUNK_ROWS 4096u
+/* Each edge of the sawtooth must span at least this many integration steps: on the 15 us edges
+ * of the diagnosis design the per-cycle step moves by 0.1-0.8 % from 1 us to 2 us (7.5 steps)
+ * and by 0.5-3 % at 4 us (3.75 steps); 10 steps keeps it near the 1 us figure. */
+#define MIN_STEPS_PER_EDGE 10.0
 
 static void usage(FILE *f)
 {
@@ -118,7 +122,8 @@ int main(int argc, char **argv)
                                          {NULL, 0, NULL, 0}};
 
     const scenario_t *sc = &SCENARIOS[0];
-    double f = -1, a = NAN, off = 0, r = -1, fall = -1, hold = 0, dt = 1e-6;
+    /* NAN / 0: not given (the scenario's or the paper's value is used) */
+    double f = NAN, a = NAN, off = 0, r = NAN, fall = NAN, hold = 0, dt = 1e-6;
     long dir = 0, cycles = -1, dec = 1;
     const char *model = "ls";
     const char *out_path = NULL;
@@ -144,7 +149,12 @@ int main(int argc, char **argv)
         case O_OFF: e = parse_double("--offset-v", optarg, &off); break;
         case O_R: e = parse_double("--rise-fraction", optarg, &r); break;
         case O_FALL: e = parse_double("--fall-time-s", optarg, &fall); break;
-        case O_DIR: e = parse_long("--direction", optarg, -1, 1, &dir); break;
+        case O_DIR:
+            e = parse_long("--direction", optarg, -1, 1, &dir);
+            if (e == 0 && dir == 0) {
+                return fail("expected +1 (forward) or -1 (backward), got", "--direction", optarg);
+            }
+            break;
         case O_CYC: e = parse_long("--cycles", optarg, 0, 1000000, &cycles); break;
         case O_HOLD: e = parse_double("--hold-s", optarg, &hold); break;
         case O_MODEL:
@@ -169,11 +179,36 @@ int main(int argc, char **argv)
     if (optind < argc) {
         return fail("unexpected argument", "command line", argv[optind]);
     }
+    /* a given value is honoured exactly or refused: never replaced by a default */
+    if (!(dt > 0.0)) {
+        fprintf(stderr, "stickslip_sim: --dt-s: the integration step must be > 0 s, got %g\n", dt);
+        return 2;
+    }
+    if (!isnan(f) && !(f > 0.0)) {
+        fprintf(stderr, "stickslip_sim: --frequency-hz: must be > 0 Hz, got %g\n", f);
+        return 2;
+    }
+    if (!isnan(r) && !(r > 0.0 && r < 1.0)) {
+        fprintf(stderr, "stickslip_sim: --rise-fraction: must be in (0, 1), got %g\n", r);
+        return 2;
+    }
+    if (!isnan(r) && !isnan(fall)) {
+        fprintf(stderr, "stickslip_sim: --rise-fraction and --fall-time-s: give one of them, not both\n");
+        return 2;
+    }
+    if (!isnan(fall) && !(fall > 0.0)) {
+        fprintf(stderr, "stickslip_sim: --fall-time-s: must be > 0 s, got %g\n", fall);
+        return 2;
+    }
+    if (hold < 0 || hold > 3600) {
+        fprintf(stderr, "stickslip_sim: --hold-s: must be in [0, 3600] s, got %g\n", hold);
+        return 2;
+    }
     const ss_waveform_config_f32_t paper = ss_waveform_paper_f32();
     if (dir == 0) {
         dir = (sc->direction != 0) ? sc->direction : paper.direction;
     }
-    if (f < 0) {
+    if (isnan(f)) {
         f = (double)paper.frequency_hz;
     }
     if (isnan(a)) {
@@ -182,12 +217,24 @@ int main(int argc, char **argv)
     if (cycles < 0) {
         cycles = (long)paper.cycles;
     }
-    if (r < 0) {
-        r = (fall >= 0) ? 1.0 - fall * f
-                        : (double)((sc->rise_fraction > 0.0f) ? sc->rise_fraction : paper.rise_fraction);
+    if (!isnan(fall)) {
+        if (fall * f >= 1.0) {
+            fprintf(stderr,
+                    "stickslip_sim: --fall-time-s: %g s does not fit in the %g s period of "
+                    "%g Hz\n",
+                    fall, 1.0 / f, f);
+            return 2;
+        }
+        r = 1.0 - fall * f;
+    } else if (isnan(r)) {
+        r = (double)((sc->rise_fraction > 0.0f) ? sc->rise_fraction : paper.rise_fraction);
     }
-    if (hold < 0 || hold > 3600) {
-        fprintf(stderr, "stickslip_sim: --hold-s: must be in [0, 3600] s, got %g\n", hold);
+    const double short_edge_s = fmin(r, 1.0 - r) / f;
+    if (short_edge_s < MIN_STEPS_PER_EDGE * dt) {
+        fprintf(stderr,
+                "stickslip_sim: --dt-s: a %g s step does not resolve the %g s edge of the sawtooth "
+                "(%g Hz, rise fraction %g): at least %g steps per edge are needed, so dt <= %g s\n",
+                dt, short_edge_s, f, r, MIN_STEPS_PER_EDGE, short_edge_s / MIN_STEPS_PER_EDGE);
         return 2;
     }
 
@@ -259,8 +306,15 @@ int main(int argc, char **argv)
         left -= n;
     }
     x_end = (double)st.x_slider.hi_m + (double)st.x_slider.lo_m;
-    if (out != stdout) {
-        fclose(out);
+    /* a full disk or a closed pipe shows only here: the output was not written */
+    int write_failed = (fflush(out) != 0) || ferror(out);
+    if (out != stdout && fclose(out) != 0) {
+        write_failed = 1;
+    }
+    if (write_failed) {
+        fprintf(stderr, "stickslip_sim: --out: writing '%s' failed: %s\n", out_path != NULL ? out_path : "-",
+                strerror(errno));
+        return 1;
     }
     if (status != SS_OK) {
         fprintf(stderr, "stickslip_sim: stopped: %s\n", ss_status_str(status));

@@ -1,0 +1,73 @@
+"""The bad-input table (issue 15): each row is an input a tool cannot honour, the exit status it
+must give and the words its message must hold (the field, the value or the accepted range). An
+input is honoured exactly or refused by name: no default stands in for a bad value, and nothing
+is reported as written when it was not."""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+HOST_SIM = ROOT / "build" / "host" / "host_sim" / "stickslip_sim"
+
+# (arguments, exit status, words the message must hold)
+HOST_SIM_CASES = [
+    # a bad value used to stand for "not given": the paper's default ran, exit 0
+    (["--frequency-hz", "-250"], 2, ["--frequency-hz", "must be > 0 Hz", "-250"]),
+    (["--rise-fraction", "-0.5"], 2, ["--rise-fraction", "(0, 1)", "-0.5"]),
+    (["--rise-fraction", "1"], 2, ["--rise-fraction", "(0, 1)"]),
+    (["--fall-time-s", "-1"], 2, ["--fall-time-s", "must be > 0 s", "-1"]),
+    (["--direction", "0"], 2, ["--direction", "+1 (forward) or -1 (backward)", "'0'"]),
+    # "waveform rejected" named the wrong field
+    (["--dt-s", "0"], 2, ["--dt-s", "must be > 0 s"]),
+    (["--dt-s", "-1e-6"], 2, ["--dt-s", "must be > 0 s"]),
+    # a step longer than the edges: a number as if it meant something
+    (["--dt-s", "1e-3"], 2, ["--dt-s", "does not resolve", "0.0001 s edge", "dt <= 1e-05 s"]),
+    (["--frequency-hz", "1e6"], 2, ["does not resolve", "1e+06 Hz", "10 steps per edge"]),
+    (["--fall-time-s", "5e-6"], 2, ["does not resolve", "5e-06 s edge"]),
+    (["--fall-time-s", "0.01"], 2, ["--fall-time-s", "does not fit", "0.002 s period"]),
+    (["--rise-fraction", "0.9", "--fall-time-s", "1e-5"], 2, ["give one of them, not both"]),
+    # already refused by name before issue 15: kept from regressing
+    (["--frequency-hz", "fast"], 2, ["--frequency-hz", "expected a finite number", "'fast'"]),
+    (["--frequency-hz", "nan"], 2, ["--frequency-hz", "expected a finite number"]),
+    (["--amplitude-v", "inf"], 2, ["--amplitude-v", "expected a finite number"]),
+    (["--direction", "2"], 2, ["--direction", "integer out of range", "'2'"]),
+    (["--cycles", "-1"], 2, ["--cycles", "integer out of range"]),
+    (["--cycles", "1.5"], 2, ["--cycles", "expected an integer"]),
+    (["--decimation", "0"], 2, ["--decimation", "integer out of range"]),
+    (["--hold-s", "-1"], 2, ["--hold-s", "[0, 3600]"]),
+    (["--model", "dahl"], 2, ["--model", "expected ls, lugre or gms", "'dahl'"]),
+    (["--scenario", "nope"], 2, ["--scenario", "unknown scenario", "'nope'"]),
+    (["--bogus"], 2, ["unknown or incomplete option", "--bogus"]),
+    (["extra"], 2, ["unexpected argument", "'extra'"]),
+    # the output could not be written: exit 0 before
+    (["--cycles", "1", "--out", "/dev/full"], 1, ["--out", "writing '/dev/full' failed"]),
+    (["--cycles", "1", "--out", "/nonexistent/x.csv"], 1, ["--out", "cannot open"]),
+]
+
+
+@pytest.mark.skipif(not HOST_SIM.exists(), reason="host build missing (cmake --preset host)")
+@pytest.mark.parametrize(("args", "status", "words"), HOST_SIM_CASES, ids=lambda x: str(x))
+def test_host_sim_refuses_by_name(args, status, words):
+    r = subprocess.run([str(HOST_SIM), *args], capture_output=True, text=True, timeout=60)
+    assert r.returncode == status, r.stderr
+    for w in words:
+        assert w in r.stderr, (w, r.stderr)
+    if status != 0:
+        assert "mean step" not in r.stderr  # nothing reported as done
+
+
+@pytest.mark.skipif(not HOST_SIM.exists(), reason="host build missing (cmake --preset host)")
+def test_host_sim_honours_the_edges_it_can_resolve(tmp_path):
+    # the shortest edge the default 1 us step resolves (10 steps), given as a fall time
+    out = tmp_path / "x.csv"
+    r = subprocess.run(
+        [str(HOST_SIM), "--fall-time-s", "10e-6", "--cycles", "1", "--out", str(out)],
+        capture_output=True,
+        text=True,
+    )
+    assert r.returncode == 0, r.stderr
+    assert len(out.read_text().splitlines()) == 1 + 2000 + 1  # header, t = 0, one 2 ms period
