@@ -133,10 +133,54 @@ def _waveform(a: argparse.Namespace) -> Sawtooth:
     return w
 
 
+# Each edge of the sawtooth must span at least this many steps (host_sim/main.c gives the
+# measurement behind it: 0.1-0.8 % per cycle from 1 us to 2 us on a 15 us edge, 0.5-3 % at 4 us).
+MIN_STEPS_PER_EDGE = 10
+
+
+def _check_resolution(w: Sawtooth, dt_s: float, hold_s: float, decimation: int) -> None:
+    """Refuse a step that cannot resolve the waveform, and a decimation that would move the
+    summary: its period boundaries and its last position must be recorded samples."""
+    if not dt_s > 0:
+        raise CliError(f"--dt-s: the integration step must be > 0 s, got {dt_s:g}")
+    edge = min(w.rise_fraction, 1.0 - w.rise_fraction) * w.period_s
+    if edge < MIN_STEPS_PER_EDGE * dt_s:
+        raise CliError(
+            f"--dt-s: a {dt_s:g} s step does not resolve the {edge:g} s edge of the sawtooth "
+            f"({w.frequency_hz:g} Hz, fall {w.fall_time_s:g} s): at least {MIN_STEPS_PER_EDGE} "
+            f"steps per edge are needed, so dt <= {edge / MIN_STEPS_PER_EDGE:g} s"
+        )
+    if decimation < 1:
+        raise CliError(f"--decimation: must be >= 1, got {decimation}")
+    if decimation == 1:
+        return
+    per_period = w.period_s / dt_s
+    n_total = round((w.duration_s + hold_s) / dt_s)
+    k = round(per_period)
+    if abs(per_period - k) > 1e-6 * per_period or k % decimation:
+        divisors = [d for d in range(1, k + 1) if k % d == 0][:12]
+        raise CliError(
+            f"--decimation {decimation}: the summary measures the slider at each period boundary "
+            f"({per_period:g} steps apart), which must be a recorded sample: choose a divisor of "
+            f"{k} ({', '.join(map(str, divisors))}, ...)"
+            if abs(per_period - k) <= 1e-6 * per_period
+            else f"--decimation {decimation}: a period of {per_period:g} steps is not a whole "
+            "number of steps, so its boundaries are recorded only at --decimation 1"
+        )
+    if n_total % decimation:
+        raise CliError(
+            f"--decimation {decimation}: the run's {n_total} steps are not a multiple of it, so "
+            "its final position would not be recorded (change --hold-s)"
+        )
+
+
 def cmd_simulate(a: argparse.Namespace) -> int:
     if a.dataset:
         return _simulate_dataset(a)
     w = _waveform(a)
+    if w.cycles < 1:
+        raise CliError(f"--cycles: must be >= 1 (the summary is per period), got {w.cycles}")
+    _check_resolution(w, a.dt_s, a.hold_s, a.decimation)
     r = simulate(
         w, model=a.model, dt_s=a.dt_s, hold_s=a.hold_s, decimation=a.decimation, variant=a.variant
     )

@@ -71,3 +71,49 @@ def test_host_sim_honours_the_edges_it_can_resolve(tmp_path):
     )
     assert r.returncode == 0, r.stderr
     assert len(out.read_text().splitlines()) == 1 + 2000 + 1  # header, t = 0, one 2 ms period
+
+
+SIMULATE_CASES = [
+    # tracebacks before
+    (["--cycles", "0", "--json"], ["--cycles", "must be >= 1", "got 0"]),
+    (["--decimation", "40001", "--json"], ["--decimation 40001", "choose a divisor of 2000"]),
+    # a summary of zeros, a moved final position
+    (["--decimation", "20000", "--json"], ["--decimation 20000", "period boundary"]),
+    (["--decimation", "7", "--json"], ["--decimation 7", "1, 2, 4, 5, 8, 10"]),
+    (["--decimation", "8", "--hold-s", "3e-6"], ["40003 steps", "final position"]),
+    (["--frequency-hz", "300", "--decimation", "2"], ["3333.33 steps", "--decimation 1"]),
+    (["--decimation", "0"], ["--decimation", "must be >= 1"]),
+    # a step as long as the edge or the period, reported as if it meant something
+    (["--frequency-hz", "1e6", "--json"], ["--dt-s", "does not resolve", "1e+06 Hz"]),
+    (["--dt-s", "1e-3", "--json"], ["--dt-s", "does not resolve", "dt <= 1e-05 s"]),
+    (["--dt-s", "0"], ["--dt-s", "must be > 0 s"]),
+    # refused by name before issue 15: kept from regressing
+    (["--frequency-hz", "-5"], ["--frequency-hz", "must be > 0"]),
+    (["--rise-fraction", "0.5", "--fall-time-s", "1e-5"], ["not both"]),
+    (["--fall-time-s", "0.01"], ["rise fraction must be in (0, 1)"]),
+]
+
+
+@pytest.mark.parametrize(("args", "words"), SIMULATE_CASES, ids=lambda x: str(x))
+def test_simulate_refuses_by_name(capsys, tmp_path, args, words):
+    from stickslip.cli import main
+
+    out = tmp_path / "never.csv"
+    assert main(["simulate", *args, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    for w in words:
+        assert w in err, (w, err)
+    assert not out.exists()  # refused before anything ran or was written
+
+
+def test_simulate_decimation_does_not_change_the_summary(capsys):
+    import json
+
+    from stickslip.cli import main
+
+    summaries = []
+    for dec in ("1", "8", "2000"):
+        assert main(["simulate", "--cycles", "5", "--decimation", dec, "--json"]) == 0
+        s = json.loads(capsys.readouterr().out)
+        summaries.append({k: s[k] for k in ("per_cycle_steps_m", "final_slider_position_m")})
+    assert summaries[0] == summaries[1] == summaries[2]
