@@ -187,6 +187,12 @@ static void drive(ss_node_can_t *n, const ss_can_drive_t *d)
         reply(n, SS_CAN_CMD_DRIVE, d->seq, SS_PERR_NON_FINITE, 0, 0.0f);
         return;
     }
+    if (fabsf(d->drive_v) > SS_NODE_MAX_DRIVE_V) {
+        const ss_node_refusal_t why = {"drive_v", "outside " SS_NODE_MAX_DRIVE_V_TEXT};
+        send_reason(n, SS_CAN_CMD_DRIVE, d->seq, &why);
+        reply(n, SS_CAN_CMD_DRIVE, d->seq, SS_PERR_OUT_OF_RANGE, 0, 0.0f);
+        return;
+    }
     n->have_drive_seq = 1;
     n->drive_seq = d->seq;
     (void)ss_node_core_drive(&n->core, d->drive_v);

@@ -203,6 +203,9 @@ ss_proto_error_t ss_node_core_drive(ss_node_core_t *c, float drive_v)
     if (!isfinite(drive_v)) {
         return SS_PERR_NON_FINITE;
     }
+    if (fabsf(drive_v) > SS_NODE_MAX_DRIVE_V) { /* 1e38 V made the state inf, then NaN for good */
+        return SS_PERR_OUT_OF_RANGE;
+    }
     ss_node_model_step(&c->cfg, &c->st, ss_node_model_drive_from_v(drive_v));
     return SS_PERR_NONE;
 }

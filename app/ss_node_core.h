@@ -96,7 +96,7 @@ ss_proto_error_t ss_node_core_reset(ss_node_core_t *core, float drive0_v, ss_nod
 /* Checks and loads a sawtooth; the model goes to rest at its start. */
 ss_proto_error_t ss_node_core_load_waveform(ss_node_core_t *core, const ss_waveform_config_f32_t *w,
                                             ss_node_refusal_t *why);
-/* One lock-step step to drive_v (refused if not finite). */
+/* One lock-step step to drive_v (refused if not finite or outside SS_NODE_MAX_DRIVE_V). */
 ss_proto_error_t ss_node_core_drive(ss_node_core_t *core, float drive_v);
 ss_node_row_t ss_node_core_row(const ss_node_core_t *core);
 

@@ -272,8 +272,13 @@ static void handle_drive_block(ss_node_serial_t *n)
         return;
     }
     for (uint32_t i = 0; i < count; ++i) { /* check all before touching the state */
-        if (!isfinite(ss_get_f32(&pk->payload[2u + 4u * i]))) {
+        const float v = ss_get_f32(&pk->payload[2u + 4u * i]);
+        if (!isfinite(v)) {
             send_err(n, SS_PERR_NON_FINITE, "drive sample", "not a finite number");
+            return;
+        }
+        if (fabsf(v) > SS_NODE_MAX_DRIVE_V) {
+            send_err(n, SS_PERR_OUT_OF_RANGE, "drive sample", "outside " SS_NODE_MAX_DRIVE_V_TEXT);
             return;
         }
     }

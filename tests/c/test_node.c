@@ -156,11 +156,47 @@ static void test_drive_block_lockstep_and_duplicate(void **unused)
     const ss_actuator_state_f32_t before = node.core.st;
     ss_put_f32(&p[2 + 4 * 30], NAN);
     expect_error(request(SS_MSG_DRIVE_BLOCK, p, sizeof p), SS_PERR_NON_FINITE, "drive sample");
+    /* beyond the documented drive limit: refused by name (1e38 V made the state NaN for good) */
+    ss_put_f32(&p[2 + 4 * 30], 1e38f);
+    expect_error(request(SS_MSG_DRIVE_BLOCK, p, sizeof p), SS_PERR_OUT_OF_RANGE,
+                 "drive sample: outside " SS_NODE_MAX_DRIVE_V_TEXT);
+    ss_put_f32(&p[2 + 4 * 30], -1.5e5f);
+    expect_error(request(SS_MSG_DRIVE_BLOCK, p, sizeof p), SS_PERR_OUT_OF_RANGE, "drive sample");
     ss_put_u16(p, 3); /* 40 / 3 rows is fine, decimation 0 is not */
     ss_put_u16(p, 0);
     expect_error(request(SS_MSG_DRIVE_BLOCK, p, sizeof p), SS_PERR_OUT_OF_RANGE, "decimation");
     expect_error(request(SS_MSG_DRIVE_BLOCK, p, 5), SS_PERR_BAD_PAYLOAD, "DRIVE_BLOCK");
     assert_memory_equal(&node.core.st, &before, sizeof before);
+}
+
+/* Property: no drive the node accepts can bring the model to a non-finite state. Every law, 20 000
+ * steps each of drives drawn over the whole accepted range (a fixed LCG, so the test is the same
+ * on every machine), with jumps from one end to the other; both ends are in every draw's set. */
+static void test_no_accepted_drive_makes_the_state_non_finite(void **unused)
+{
+    (void)unused;
+    static const int32_t laws[] = {SS_FRICTION_LS, SS_FRICTION_LUGRE, SS_FRICTION_GMS};
+    uint32_t lcg = 12345u;
+    for (size_t k = 0; k < sizeof laws / sizeof laws[0]; ++k) {
+        ss_node_core_t core;
+        ss_node_core_init(&core);
+        core.cfg.friction_model = laws[k];
+        ss_node_model_init(&core.cfg, &core.st, ss_node_model_drive_from_v(0.0f));
+        for (int i = 0; i < 20000; ++i) {
+            lcg = lcg * 1664525u + 1013904223u;
+            float v = ((float)(lcg >> 8) / 8388608.0f - 1.0f) * SS_NODE_MAX_DRIVE_V;
+            if (i % 1000 < 4) {
+                v = (i % 2 == 0) ? SS_NODE_MAX_DRIVE_V : -SS_NODE_MAX_DRIVE_V;
+            }
+            assert_int_equal(ss_node_core_drive(&core, v), SS_PERR_NONE);
+            const ss_node_row_t r = ss_node_core_row(&core);
+            assert_true(isfinite(r.x_rod_m) && isfinite(r.x_slider_hi_m) && isfinite(r.x_slider_lo_m));
+            assert_true(isfinite(r.force_n)); /* the friction state feeds it */
+        }
+        assert_int_equal(ss_node_core_drive(&core, 1e38f), SS_PERR_OUT_OF_RANGE);
+        assert_int_equal(ss_node_core_drive(&core, nextafterf(SS_NODE_MAX_DRIVE_V, INFINITY)),
+                         SS_PERR_OUT_OF_RANGE);
+    }
 }
 
 static void test_free_run_paced_busy_stop(void **unused)
@@ -453,11 +489,15 @@ static void test_can_lockstep_busy_and_traffic(void **unused)
     ss_can_pack_drive(&again, &can_in[can_in_n++]);
     const ss_can_drive_t bad = {NAN, 21, 1};
     ss_can_pack_drive(&bad, &can_in[can_in_n++]);
+    const ss_can_drive_t huge = {1e38f, 22, 1};
+    ss_can_pack_drive(&huge, &can_in[can_in_n++]);
     can_out_n = 0;
     ss_node_can_poll(&can_node);
     ss_can_reply_t r;
     assert_true(ss_can_unpack_reply(&can_out[0], &r) && r.status == SS_PERR_DUPLICATE);
     assert_true(ss_can_unpack_reply(&can_out[1], &r) && r.status == SS_PERR_NON_FINITE);
+    /* the reason frames, then the reply */
+    assert_true(ss_can_unpack_reply(&can_out[can_out_n - 1], &r) && r.status == SS_PERR_OUT_OF_RANGE);
     assert_int_equal(can_node.core.st.steps, 20);
     /* during a paced run: drive frames and commands are busy; HELLO stops the run */
     can_cmd(SS_CAN_CMD_SET_WAVE, 40, 0, 0, 500.0f);
@@ -487,6 +527,7 @@ int main(void)
         cmocka_unit_test_setup(test_hello, setup),
         cmocka_unit_test_setup(test_params, setup),
         cmocka_unit_test_setup(test_drive_block_lockstep_and_duplicate, setup),
+        cmocka_unit_test(test_no_accepted_drive_makes_the_state_non_finite),
         cmocka_unit_test_setup(test_free_run_paced_busy_stop, setup),
         cmocka_unit_test_setup(test_garbage_unknown_and_disconnect, setup),
         cmocka_unit_test_setup(test_set_param_then_run_does_not_jump, setup),
