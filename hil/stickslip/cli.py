@@ -158,7 +158,8 @@ def _check_resolution(w: Sawtooth, dt_s: float, hold_s: float, decimation: int) 
     n_total = round((w.duration_s + hold_s) / dt_s)
     k = round(per_period)
     if abs(per_period - k) > 1e-6 * per_period or k % decimation:
-        divisors = [d for d in range(1, k + 1) if k % d == 0][:12]
+        small = [d for d in range(1, math.isqrt(k) + 1) if k % d == 0]
+        divisors = sorted({*small, *(k // d for d in small)})[:12]
         raise CliError(
             f"--decimation {decimation}: the summary measures the slider at each period boundary "
             f"({per_period:g} steps apart), which must be a recorded sample: choose a divisor of "
@@ -277,9 +278,11 @@ def cmd_hil_node(a: argparse.Namespace) -> int:
 
 def cmd_hil_run(a: argparse.Namespace) -> int:
     from .hil.client import HostNode, NodeClient
-    from .hil.session import node_params, play, record, summary
+    from .hil.session import node_params, play, record, run_budget, summary
 
     w = _waveform(a)
+    if w.cycles < 1:
+        raise CliError(f"--cycles: must be >= 1 (the summary is per period), got {w.cycles}")
     if a.decimation < 1:
         raise CliError(f"--decimation: must be >= 1, got {a.decimation}")
     with contextlib.ExitStack() as stack:
@@ -302,7 +305,8 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
         else:
             client = NodeClient(url)
         with client as c:
-            steps = int(round(w.duration_s / c.info.dt_s))
+            _check_resolution(w, c.info.dt_s, 0.0, a.decimation)
+            steps = run_budget(w, c.info.dt_s, a.mode, a.decimation)
             with Progress(f"{a.mode} run", total=steps, unit="step", quiet=a.quiet) as bar:
                 run = play(c, w, a.mode, a.decimation, a.paced, progress=bar.to)
             s = summary(run, c)

@@ -117,3 +117,43 @@ def test_simulate_decimation_does_not_change_the_summary(capsys):
         s = json.loads(capsys.readouterr().out)
         summaries.append({k: s[k] for k in ("per_cycle_steps_m", "final_slider_position_m")})
     assert summaries[0] == summaries[1] == summaries[2]
+
+
+HIL_RUN_CASES = [
+    # NaN in the JSON before (not valid JSON)
+    (["--cycles", "0", "--json"], ["--cycles", "must be >= 1"]),
+    # struct.error before
+    (["--decimation", "100000", "--cycles", "1"], ["--decimation 100000", "divisor of 2000"]),
+    # a 74.5 GiB allocation before
+    (["--frequency-hz", "1e-3", "--cycles", "1"], ["1000000003 steps", "above the 10000000"]),
+    (["--decimation", "7", "--cycles", "1"], ["--decimation 7", "1, 2, 4, 5, 8, 10"]),
+]
+
+
+@pytest.mark.skipif(
+    not (ROOT / "build" / "host" / "host_sim" / "stickslip_node").exists(),
+    reason="host build missing (cmake --preset host)",
+)
+@pytest.mark.parametrize(("args", "words"), HIL_RUN_CASES, ids=lambda x: str(x))
+def test_hil_run_refuses_by_name_before_it_runs(capsys, tmp_path, args, words):
+    from stickslip.cli import main
+
+    out = tmp_path / "never"
+    assert main(["hil", "run", *args, "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    for w in words:
+        assert w in err, (w, err)
+    assert not out.exists()
+
+
+def test_run_budget_names_what_does_not_fit():
+    from stickslip.hil.session import run_budget
+    from stickslip.model import Sawtooth
+
+    assert run_budget(Sawtooth(cycles=2), 1e-6, "lockstep", 10) == 4000
+    with pytest.raises(ValueError, match=r"decimation: must be in \[1, 65535\], got 70000"):
+        run_budget(Sawtooth(), 1e-6, "free", 70000)
+    with pytest.raises(ValueError, match="raise --decimation to at least 2"):
+        run_budget(Sawtooth(frequency_hz=1.0, cycles=15), 1e-6, "free", 1)
+    with pytest.raises(ValueError, match="use --mode free"):
+        run_budget(Sawtooth(frequency_hz=1.0, cycles=150), 1e-6, "lockstep", 100)

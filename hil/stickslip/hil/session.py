@@ -51,6 +51,35 @@ def node_params(client: NodeSession) -> ActuatorParams:
     return ActuatorParams.from_dict(values, "node parameters")
 
 
+MAX_DECIMATION = 65535  # the protocol carries it as a u16 (docs/protocol.md)
+# What a run may hold here: the recorded rows (7 float64 columns each, ~0.6 GB at the limit) and,
+# in lock-step, the drive generated here (float32, one per step: 0.4 GB at the limit).
+MAX_RUN_ROWS = 10_000_000
+MAX_LOCKSTEP_STEPS = 100_000_000
+
+
+def run_budget(w: Sawtooth, dt_s: float, mode: str, decimation: int) -> int:
+    """The steps of a run of w at the node's step dt_s, after checking the request fits the
+    protocol and this machine's memory (ValueError naming the field otherwise): a run's cost is
+    known from the request, before anything is allocated or sent."""
+    if not 1 <= decimation <= MAX_DECIMATION:
+        raise ValueError(f"decimation: must be in [1, {MAX_DECIMATION}], got {decimation}")
+    steps = int(round(w.duration_s / dt_s))
+    rows = steps // decimation + 1
+    if rows > MAX_RUN_ROWS:
+        raise ValueError(
+            f"the run is {steps} steps ({w.cycles} periods of {w.period_s:g} s at {dt_s:g} s): "
+            f"{rows} rows at decimation {decimation}, above the {MAX_RUN_ROWS} a run may record; "
+            f"raise --decimation to at least {-(-steps // (MAX_RUN_ROWS - 1))} or shorten it"
+        )
+    if mode == "lockstep" and steps > MAX_LOCKSTEP_STEPS:
+        raise ValueError(
+            f"the run is {steps} steps: a lock-step run sends at most {MAX_LOCKSTEP_STEPS} drive "
+            "samples; use --mode free, or fewer or faster periods"
+        )
+    return steps
+
+
 def lockstep_drive(w: Sawtooth, dt_s: float, steps: int, variant: str = "f32") -> np.ndarray:
     """The drive at t = 0 and after each of `steps` steps, float32. For a fixed-point node
     (variant "q") the q player's Q16.16 samples, exact in float32 below 256 V, so the node's
@@ -78,7 +107,7 @@ def play(
     sent in blocks; free: the node plays it itself. progress (if given) is told the steps done
     as the run goes."""
     dt = client.info.dt_s
-    steps = int(round(w.duration_s / dt))
+    steps = run_budget(w, dt, mode, decimation)
     if mode == "lockstep":
         drive = lockstep_drive(w, dt, steps, client.info.variant)
         block = max(decimation, (40 // decimation) * decimation)
