@@ -8,6 +8,7 @@ import json
 import math
 import os
 import sys
+import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -62,14 +63,30 @@ def _add_quiet_option(p: argparse.ArgumentParser) -> None:
 def _report(a: argparse.Namespace, result: dict, summary: str) -> None:
     """Print the summary, or the JSON result in its place (--json, --json -); with --json FILE
     write the JSON there as well."""
+    # allow_nan=False: a NaN is an error here, never an invalid JSON document
     if a.json == "-":
-        print(json.dumps(result, indent=2))
+        print(json.dumps(result, indent=2, allow_nan=False))
         return
     if a.json:
         path = Path(a.json)
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(result, indent=2) + "\n")
+        path.write_text(json.dumps(result, indent=2, allow_nan=False) + "\n")
     print(summary)
+
+
+def _check_writable(path: str | Path, option: str, folder: bool) -> None:
+    """Refuse an output that cannot be written before the work that fills it (a diagnosis takes
+    minutes): the folder is created and a file is written in it and removed."""
+    p = Path(path)
+    where = p if folder else p.parent
+    if not folder and p.is_dir():
+        raise CliError(f"{option}: '{p}' is a folder, not a file")
+    try:
+        where.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=where, prefix=".stickslip-probe-"):
+            pass
+    except OSError as e:
+        raise CliError(f"{option}: cannot write to '{where}': {e.strerror or e}") from None
 
 
 def _finite(name: str):
@@ -386,6 +403,9 @@ def cmd_diagnose(a: argparse.Namespace) -> int:
 
     if a.workers < 1:
         raise CliError(f"--workers must be >= 1, got {a.workers}")
+    _check_writable(a.out, "--out", folder=True)
+    if a.json and a.json != "-":
+        _check_writable(a.json, "--json", folder=False)
     # a live status line: what the pipeline is doing now, and for how long
     with Progress("diagnosing", total=None, quiet=a.quiet) as bar:
         with ThreadPoolExecutor(max_workers=a.workers) as ex:

@@ -157,3 +157,35 @@ def test_run_budget_names_what_does_not_fit():
         run_budget(Sawtooth(frequency_hz=1.0, cycles=15), 1e-6, "free", 1)
     with pytest.raises(ValueError, match="use --mode free"):
         run_budget(Sawtooth(frequency_hz=1.0, cycles=150), 1e-6, "lockstep", 100)
+
+
+DIAGNOSE_OUTPUT_CASES = [
+    # these failed only after the whole diagnosis (minutes) before
+    (["--out", "/proc/stickslip-nope"], ["--out", "cannot write to '/proc/stickslip-nope'"]),
+    (["--out", "/dev/null/x"], ["--out", "cannot write to", "Not a directory"]),
+    (["--json", "/dev/null/x.json"], ["--json", "cannot write to '/dev/null'"]),
+]
+
+
+@pytest.mark.parametrize(("args", "words"), DIAGNOSE_OUTPUT_CASES, ids=lambda x: str(x))
+def test_diagnose_refuses_an_unwritable_output_before_it_computes(capsys, monkeypatch, args, words):
+    import stickslip.diagnosis.pipeline as pipeline
+    from stickslip.cli import main
+
+    def never(*_a, **_k):
+        raise AssertionError("the diagnosis ran before its output was checked")
+
+    monkeypatch.setattr(pipeline, "diagnose", never)
+    assert main(["diagnose", str(ROOT / "examples" / "hidden-effect"), *args, "--quiet"]) == 2
+    err = capsys.readouterr().err
+    for w in words:
+        assert w in err, (w, err)
+
+
+def test_json_output_never_holds_a_nan(capsys):
+    import argparse
+
+    from stickslip.cli import _report
+
+    with pytest.raises(ValueError, match="not JSON compliant"):
+        _report(argparse.Namespace(json="-"), {"mean_step_per_cycle_m": float("nan")}, "")
