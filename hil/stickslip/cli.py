@@ -76,17 +76,23 @@ def _report(a: argparse.Namespace, result: dict, summary: str) -> None:
 
 def _check_writable(path: str | Path, option: str, folder: bool) -> None:
     """Refuse an output that cannot be written before the work that fills it (a diagnosis takes
-    minutes): the folder is created and a file is written in it and removed."""
+    minutes): a file is written in its folder and removed, and the folders this made are removed
+    again (a refused run writes nothing)."""
     p = Path(path)
     where = p if folder else p.parent
     if not folder and p.is_dir():
         raise CliError(f"{option}: '{p}' is a folder, not a file")
+    made = [d for d in (where, *where.parents) if not d.exists()]
     try:
         where.mkdir(parents=True, exist_ok=True)
         with tempfile.NamedTemporaryFile(dir=where, prefix=".stickslip-probe-"):
             pass
     except OSError as e:
         raise CliError(f"{option}: cannot write to '{where}': {e.strerror or e}") from None
+    finally:
+        for d in made:  # innermost first
+            with contextlib.suppress(OSError):
+                d.rmdir()
 
 
 def _finite(name: str):
@@ -412,6 +418,8 @@ def cmd_diagnose(a: argparse.Namespace) -> int:
             d = diagnose(a.dataset, executor=ex, progress=bar.status)
         bar.status("writing the report")
         report = write_report(d, a.out)
+    for w in d.warnings:  # also in the report; here even under --quiet
+        print(f"stickslip diagnose: warning: {w}", file=sys.stderr)
     j = d.to_json()
     verdict = ", ".join(j["causes"]) + (
         " (unexplained residuals remain)" if j["unexplained"] else ""

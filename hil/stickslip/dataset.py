@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .dataset_checks import check_run
 from .model import ActuatorParams, Sawtooth
 
 FORMAT = "stick-slip-dataset/1"
@@ -64,6 +65,8 @@ class Dataset:
     actuator: ActuatorParams
     runs: list[Run]
     sensor: Sensor
+    # what the cross-checks suspect (dataset_checks.py): likely unit errors, named by file
+    warnings: list[str] = field(default_factory=list)
 
     def run(self, run_id: str) -> Run:
         for r in self.runs:
@@ -73,7 +76,8 @@ class Dataset:
 
 
 def read_run_csv(path: Path) -> tuple[list[str], np.ndarray]:
-    """Columns and values of one run file, validated cell by cell."""
+    """Columns and values of one run file, validated cell by cell. Extra columns (the format
+    ignores them) are kept only when every cell is a finite number; others are dropped."""
     try:
         f = open(path, newline="")  # noqa: SIM115 (closed by the with below; open errors named here)
     except OSError as e:
@@ -97,6 +101,7 @@ def read_run_csv(path: Path) -> tuple[list[str], np.ndarray]:
         if len(set(header)) != len(header):
             raise DatasetError(path, f"duplicate column names in header {header}", row=1)
         rows: list[list[float]] = []
+        numeric = [True] * len(header)  # extra columns: any cell not a finite number drops it
         line = 1
         try:
             for line, cells in enumerate(reader, start=2):
@@ -107,24 +112,31 @@ def read_run_csv(path: Path) -> tuple[list[str], np.ndarray]:
                         path, f"{len(cells)} cells, header has {len(header)}", row=line
                     )
                 vals = []
-                for name, cell in zip(header, cells):
+                for j, (name, cell) in enumerate(zip(header, cells)):
                     try:
                         v = float(cell)
                     except ValueError:
-                        raise DatasetError(
-                            path, f"not a number: {cell!r}", row=line, column=name
-                        ) from None
+                        v = math.nan
                     if not math.isfinite(v):
-                        raise DatasetError(
-                            path, f"not a finite number: {cell!r}", row=line, column=name
-                        )
+                        if name not in REQUIRED_COLUMNS:
+                            numeric[j] = False
+                        elif math.isnan(v) and cell.strip().lower() != "nan":
+                            raise DatasetError(
+                                path, f"not a number: {cell!r}", row=line, column=name
+                            )
+                        else:
+                            raise DatasetError(
+                                path, f"not a finite number: {cell!r}", row=line, column=name
+                            )
                     vals.append(v)
                 rows.append(vals)
         except (csv.Error, UnicodeDecodeError) as e:
             raise DatasetError(path, f"unreadable: {e}", row=line + 1) from None
     if len(rows) < 2:
         raise DatasetError(path, f"needs at least 2 data rows, has {len(rows)}")
-    data = np.array(rows, dtype=np.float64)
+    keep = [j for j in range(len(header)) if numeric[j]]
+    header = [header[j] for j in keep]
+    data = np.array(rows, dtype=np.float64)[:, keep]
     t = data[:, header.index("t_s")]
     dt = np.diff(t)
     bad = np.nonzero(dt <= 0)[0]
@@ -191,6 +203,7 @@ def load(path: str | Path) -> Dataset:
     if not isinstance(runs_meta, list) or not runs_meta:
         raise DatasetError(meta_path, "runs must be a non-empty list")
     runs, seen = [], set()
+    warnings: list[str] = []
     for i, rm in enumerate(runs_meta):
         where = f"runs[{i}]"
         if (
@@ -215,6 +228,9 @@ def load(path: str | Path) -> Dataset:
                 raise DatasetError(meta_path, str(e)) from None
         header, data = read_run_csv(file)
         cols = {name: data[:, j] for j, name in enumerate(header)}
+        warnings += check_run(
+            file, where, cols["t_s"], cols["drive_v"], cols["x_m"], waveform, actuator
+        )
         runs.append(
             Run(
                 id=rm["id"],
@@ -227,7 +243,7 @@ def load(path: str | Path) -> Dataset:
             )
         )
     desc = meta.get("description", "")
-    return Dataset(root, desc if isinstance(desc, str) else "", actuator, runs, sensor)
+    return Dataset(root, desc if isinstance(desc, str) else "", actuator, runs, sensor, warnings)
 
 
 def write(

@@ -189,3 +189,102 @@ def test_json_output_never_holds_a_nan(capsys):
 
     with pytest.raises(ValueError, match="not JSON compliant"):
         _report(argparse.Namespace(json="-"), {"mean_step_per_cycle_m": float("nan")}, "")
+
+
+def _example_copy(tmp_path: Path, edit_meta=None, edit_csv=None) -> Path:
+    """A copy of the bundled example dataset, its first run's metadata or CSV edited."""
+    import json
+    import shutil
+
+    dst = tmp_path / "ds"
+    shutil.copytree(ROOT / "examples" / "hidden-effect", dst)
+    meta = json.loads((dst / "dataset.json").read_text())
+    run = meta["runs"][0]
+    if edit_meta:
+        edit_meta(run)
+        (dst / "dataset.json").write_text(json.dumps(meta))
+    if edit_csv:
+        f = dst / run["file"]
+        f.write_text(edit_csv(f.read_text()))
+    return dst
+
+
+def _scale_column(text: str, column: str, k: float) -> str:
+    lines = text.splitlines()
+    j = lines[0].split(",").index(column)
+    out = [lines[0]]
+    for line in lines[1:]:
+        cells = line.split(",")
+        cells[j] = repr(float(cells[j]) * k)
+        out.append(",".join(cells))
+    return "\n".join(out) + "\n"
+
+
+def _set(key, value):
+    def edit(run):
+        run["waveform"][key] = value
+
+    return edit
+
+
+# (metadata edit, csv edit, words of the error): contradictions, named by file and field
+DATASET_CONTRADICTIONS = [
+    # the issue's case: amplitude -100 against a 0 to 100 V ramp, confident wrong causes before
+    (_set("amplitude_v", -100.0), None, ["drive_v contradicts runs[0].waveform", "amplitude_v"]),
+    (_set("direction", -1), None, ["drive_v contradicts", "fits direction = 1, the block says -1"]),
+    (_set("frequency_hz", 1000.0), None, ["drive_v contradicts", "frequency_hz = 500"]),
+    (_set("offset_v", 20.0), None, ["drive_v contradicts", "offset_v = 0"]),
+]
+
+
+@pytest.mark.parametrize(("meta", "csv", "words"), DATASET_CONTRADICTIONS, ids=lambda x: str(x))
+def test_dataset_metadata_contradicting_its_data_is_an_error(tmp_path, meta, csv, words):
+    from stickslip import dataset as D
+
+    path = _example_copy(tmp_path, meta, csv)
+    with pytest.raises(D.DatasetError) as e:
+        D.load(path)
+    for w in words:
+        assert w in str(e.value), (w, str(e.value))
+    assert ".csv" in str(e.value) and "column 'drive_v'" in str(e.value)
+
+
+def test_positions_in_millimetres_are_flagged_by_file(tmp_path, capsys):
+    from stickslip import dataset as D
+
+    path = _example_copy(tmp_path, None, lambda t: _scale_column(t, "x_m", 1e3))
+    ds = D.load(path)
+    assert len(ds.warnings) == 1 and "are the positions in metres?" in ds.warnings[0]
+    assert ds.runs[0].file.name in ds.warnings[0]
+    assert D.load(ROOT / "examples" / "hidden-effect").warnings == []
+
+
+def test_an_unresolved_edge_without_a_waveform_block_is_an_error(tmp_path):
+    from stickslip import dataset as D
+
+    def drop_waveform(run):
+        del run["waveform"]
+
+    def every_5th_row(text: str) -> str:  # 50 kS/s to 10 kS/s: the 100 us fall in one sample
+        lines = text.splitlines()
+        return "\n".join([lines[0], *lines[1::5]]) + "\n"
+
+    assert D.load(_example_copy(tmp_path / "a", drop_waveform)).runs[0].waveform is None
+    with pytest.raises(D.DatasetError, match="the fast edge is not resolved at 1e\\+04 S/s"):
+        D.load(_example_copy(tmp_path / "b", drop_waveform, every_5th_row))
+
+
+def test_extra_columns_of_any_type_are_ignored(tmp_path):
+    from stickslip import dataset as D
+
+    def add_text_column(text: str) -> str:
+        lines = text.splitlines()
+        out = [lines[0] + ",operator_note"] + [line + ",ok" for line in lines[1:]]
+        return "\n".join(out) + "\n"
+
+    ds = D.load(_example_copy(tmp_path, None, add_text_column))
+    assert "operator_note" not in ds.runs[0].extra  # not a number: ignored, as the format says
+    # a required column stays strict
+    bad = _example_copy(tmp_path / "b", None, lambda t: t.replace("\n0,", "\nzero,", 1))
+    with pytest.raises(D.DatasetError, match="row 2, column 't_s': not a number: 'zero'"):
+        D.load(bad)

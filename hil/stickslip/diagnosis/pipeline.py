@@ -166,6 +166,7 @@ class Diagnosis:
     sensor_noise_m: float = 0.0  # per recorded sample (noise_m: on the filtered fit samples)
     residual: dict = field(default_factory=dict)
     timing_s: dict[str, float] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)  # the dataset's cross-checks' suspicions
 
     @property
     def gain(self) -> float:
@@ -516,6 +517,8 @@ def diagnose(
     say = progress or (lambda msg: None)
     t_start = time.perf_counter()
     ds = D.load(path)  # validated whole before anything runs
+    for w in ds.warnings:
+        say(f"warning: {w}")
     runs = [prepare(r, major_loop_v(ds.runs)) for r in ds.runs]
     train, val = split_runs(runs)
     nominal_params: ActuatorParams = ds.actuator
@@ -612,6 +615,7 @@ def diagnose(
         sensor_noise_m=sensor_noise_m,
         residual=residual_summary(runs, chosen.fit.model, noise_m),
         timing_s=timing,
+        warnings=ds.warnings,
     )
 
 

@@ -223,6 +223,8 @@ def _params_table(j: dict) -> list[str]:
 def _markdown(d: Diagnosis, j: dict) -> str:
     noise = d.sensor_noise_m  # the verdicts are judged against it
     lines = [f"# Diagnosis of `{d.dataset}`", ""]
+    if d.warnings:  # suspicions about the data itself come before anything read from it
+        lines += ["**Warnings about the data:**", ""] + [f"- {w}" for w in d.warnings] + [""]
     causes = j["causes"]
     lines += [_verdict(causes, d, d.chosen.law), ""]
     lines += [
