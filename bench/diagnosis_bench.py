@@ -26,7 +26,7 @@ import statistics
 import sys
 import tempfile
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -135,7 +135,7 @@ def main() -> int:
     ap.add_argument("--cases", nargs="+", choices=names, default=names, help="default: all")
     a = ap.parse_args()
     cases = [c for c in table if c[0] in a.cases]
-    with ProcessPoolExecutor(max_workers=a.workers) as ex, tempfile.TemporaryDirectory() as tmp:
+    with ThreadPoolExecutor(max_workers=a.workers) as ex, tempfile.TemporaryDirectory() as tmp:
         times: list[float] = []
         if a.repeat:
             if a.generator == "own":
