@@ -5,6 +5,7 @@ is reported as written when it was not."""
 
 from __future__ import annotations
 
+import struct
 import subprocess
 from pathlib import Path
 
@@ -288,3 +289,45 @@ def test_extra_columns_of_any_type_are_ignored(tmp_path):
     bad = _example_copy(tmp_path / "b", None, lambda t: t.replace("\n0,", "\nzero,", 1))
     with pytest.raises(D.DatasetError, match="row 2, column 't_s': not a number: 'zero'"):
         D.load(bad)
+
+
+def _client_replying(request_type: int, payload: bytes):
+    """A serial client whose node answers a request of request_type with payload."""
+    from stickslip.hil.client import NodeClient
+
+    c = NodeClient.__new__(NodeClient)
+    c.request = lambda type_, *_a, **_k: payload if type_ == request_type else b""  # type: ignore
+    c._node_seq = None
+    return c
+
+
+HELLO_OK = bytes([1, 0, 0, 19]) + struct.pack("<f", 1e-6) + b"1.0"
+
+BAD_REPLIES = [
+    # a short or foreign HELLO was a struct.error or an IndexError in client.py
+    ("HELLO", b"\x01\x00", "2 bytes, at least 8 expected"),
+    ("HELLO", bytes([99]) + HELLO_OK[1:], "protocol version 99, this client speaks 1"),
+    ("HELLO", HELLO_OK[:1] + bytes([7]) + HELLO_OK[2:], "model index 7"),
+    ("HELLO", HELLO_OK[:2] + bytes([5]) + HELLO_OK[3:], "variant index 5"),
+    ("HELLO", HELLO_OK[:4] + struct.pack("<f", float("nan")), "step nan s"),
+    ("GET_PARAM", b"\x00", "1 bytes, at least 5 expected"),
+]
+
+
+@pytest.mark.parametrize(("request_name", "payload", "words"), BAD_REPLIES, ids=lambda x: str(x))
+def test_client_checks_every_reply(request_name, payload, words):
+    from stickslip.hil import protocol
+    from stickslip.hil.node import BadReplyError, HilError
+
+    c = _client_replying(getattr(protocol, request_name), payload)
+    with pytest.raises(BadReplyError) as e:
+        c.hello() if request_name == "HELLO" else c.get(0)
+    assert isinstance(e.value, HilError)  # one documented type for every session error
+    assert request_name in str(e.value) and words in str(e.value), str(e.value)
+
+
+def test_a_good_hello_is_read():
+    from stickslip.hil import protocol
+
+    info = _client_replying(protocol.HELLO, HELLO_OK).hello()
+    assert (info.protocol, info.model, info.variant) == (1, "ls", "f32")

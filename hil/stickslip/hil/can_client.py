@@ -15,6 +15,7 @@ import numpy as np
 from ..model import VARIANTS, Sawtooth
 from . import protocol as P
 from .node import (
+    BadReplyError,
     LinkStats,
     LinkTimeoutError,
     NodeError,
@@ -133,9 +134,13 @@ class CanNodeClient:
     def hello(self) -> NodeInfo:
         r = self.request("HELLO")
         model, variant = r["index"] & 0x0F, r["index"] >> 4  # docs/protocol.md, the CAN link
+        if model >= len(P.NODE_MODELS) or variant >= len(VARIANTS):
+            raise BadReplyError("HELLO", f"model index {model}, variant index {variant} unknown")
+        if not (math.isfinite(r["value"]) and r["value"] > 0):
+            raise BadReplyError("HELLO", f"step {r['value']!r} s")
         return NodeInfo(
             1,
-            ("ls", "lugre")[model],
+            P.NODE_MODELS[model],
             VARIANTS[variant],
             len(P.PARAM_NAMES),
             r["value"],

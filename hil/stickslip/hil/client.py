@@ -4,6 +4,7 @@ python-can bus (a context manager configured by a URL), and the host node launch
 from __future__ import annotations
 
 import io
+import math
 import os
 import re
 import select
@@ -20,6 +21,7 @@ import serial
 from ..model import VARIANTS, Sawtooth
 from . import protocol as P
 from .node import (
+    BadReplyError,
     LinkStats,
     LinkTimeoutError,
     NodeError,
@@ -27,6 +29,7 @@ from .node import (
     ParamInfo,
     StepProgress,
     Telemetry,
+    checked,
 )
 
 
@@ -146,12 +149,20 @@ class NodeClient:
     # ------------------------------------------------------------ requests
     def hello(self) -> NodeInfo:
         self._node_seq = None  # a new session
-        b = self.request(P.HELLO)
+        b = checked("HELLO", self.request(P.HELLO), 8)
         ver, model, variant, n, dt = struct.unpack_from("<BBBBf", b)
-        return NodeInfo(ver, ("ls", "lugre")[model], VARIANTS[variant], n, dt, b[8:].decode())
+        if ver != P.VERSION:
+            raise BadReplyError("HELLO", f"protocol version {ver}, this client speaks {P.VERSION}")
+        if model >= len(P.NODE_MODELS) or variant >= len(VARIANTS):
+            raise BadReplyError("HELLO", f"model index {model}, variant index {variant} unknown")
+        if not (math.isfinite(dt) and dt > 0):
+            raise BadReplyError("HELLO", f"step {dt!r} s")
+        return NodeInfo(
+            ver, P.NODE_MODELS[model], VARIANTS[variant], n, dt, b[8:].decode(errors="replace")
+        )
 
     def param_info(self, pid: int) -> ParamInfo:
-        b = self.request(P.PARAM_INFO, bytes([pid]))
+        b = checked("PARAM_INFO", self.request(P.PARAM_INFO, bytes([pid])), 13)
         i, v, lo, hi = struct.unpack_from("<Bfff", b)
         return ParamInfo(i, b[13:].decode(), v, lo, hi)
 
@@ -163,14 +174,18 @@ class NodeClient:
         return bytes([param]) if isinstance(param, int) else b"\xff" + param.encode()
 
     def get(self, param: int | str) -> float:
-        return struct.unpack_from("<Bf", self.request(P.GET_PARAM, self._key(param)))[1]
+        return struct.unpack_from(
+            "<Bf", checked("GET_PARAM", self.request(P.GET_PARAM, self._key(param)), 5)
+        )[1]
 
     def set(self, param: int | str, value: float) -> float:
         if isinstance(param, int):
             payload = bytes([param]) + struct.pack("<f", value)
         else:
             payload = b"\xff" + struct.pack("<f", value) + param.encode()
-        return struct.unpack_from("<Bf", self.request(P.SET_PARAM, payload))[1]
+        return struct.unpack_from(
+            "<Bf", checked("SET_PARAM", self.request(P.SET_PARAM, payload), 5)
+        )[1]
 
     def reset(self, drive0_v: float = 0.0) -> None:
         self.request(P.RESET, struct.pack("<f", drive0_v))

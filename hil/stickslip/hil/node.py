@@ -17,8 +17,14 @@ from . import protocol as P
 StepProgress = Optional[Callable[[int], None]]
 
 
-class NodeError(RuntimeError):
-    """The node refused a request; `name` is the protocol's error name."""
+class HilError(RuntimeError):
+    """Every error a node session raises: NodeError (the node refused, with its own reason),
+    LinkTimeoutError (no reply in time), BadReplyError (a reply this client cannot read)."""
+
+
+class NodeError(HilError):
+    """The node refused a request; `name` is the protocol's error name, `reason` the node's own
+    words, passed on verbatim."""
 
     def __init__(self, code: int, request_type: int, reason: str):
         self.code, self.request_type, self.reason = code, request_type, reason
@@ -26,8 +32,24 @@ class NodeError(RuntimeError):
         super().__init__(f"node refused request 0x{request_type:02x}: {self.name}: {reason}")
 
 
-class LinkTimeoutError(TimeoutError):
+class LinkTimeoutError(HilError, TimeoutError):
     """No reply in time: the request or its reply was lost."""
+
+
+class BadReplyError(HilError):
+    """A reply that is too short, of another protocol version, or names a model or variant this
+    client does not know: a foreign or newer node, or a corrupted link."""
+
+    def __init__(self, request: str, problem: str):
+        self.request, self.problem = request, problem
+        super().__init__(f"the node's reply to {request} is not one this client reads: {problem}")
+
+
+def checked(request: str, payload: bytes, min_len: int) -> bytes:
+    """payload, after checking it holds at least min_len bytes."""
+    if len(payload) < min_len:
+        raise BadReplyError(request, f"{len(payload)} bytes, at least {min_len} expected")
+    return payload
 
 
 @dataclass(frozen=True)

@@ -34,6 +34,8 @@ ERROR_NAMES = {
 }
 ERROR_CODES = {v: k for k, v in ERROR_NAMES.items()}
 
+NODE_MODELS = ("ls", "lugre")  # HELLO's model index (the node's friction_model parameter)
+
 # parameter ids of docs/protocol.md (the CAN messages carry ids only)
 PARAM_NAMES = [
     "piezo_stiffness_n_per_m",
