@@ -178,19 +178,21 @@ def _check_resolution(w: Sawtooth, dt_s: float, hold_s: float, decimation: int) 
     if decimation == 1:
         return
     per_period = w.period_s / dt_s
-    n_total = round((w.duration_s + hold_s) / dt_s)
     k = round(per_period)
-    if abs(per_period - k) > 1e-6 * per_period or k % decimation:
+    if abs(per_period - k) > 1e-6 * per_period:
+        raise CliError(
+            f"--decimation {decimation}: a period of {per_period:g} steps is not a whole number "
+            "of steps, so its boundaries are recorded only at --decimation 1"
+        )
+    if k % decimation:
         small = [d for d in range(1, math.isqrt(k) + 1) if k % d == 0]
         divisors = sorted({*small, *(k // d for d in small)})[:12]
         raise CliError(
             f"--decimation {decimation}: the summary measures the slider at each period boundary "
             f"({per_period:g} steps apart), which must be a recorded sample: choose a divisor of "
             f"{k} ({', '.join(map(str, divisors))}, ...)"
-            if abs(per_period - k) <= 1e-6 * per_period
-            else f"--decimation {decimation}: a period of {per_period:g} steps is not a whole "
-            "number of steps, so its boundaries are recorded only at --decimation 1"
         )
+    n_total = round((w.duration_s + hold_s) / dt_s)
     if n_total % decimation:
         raise CliError(
             f"--decimation {decimation}: the run's {n_total} steps are not a multiple of it, so "

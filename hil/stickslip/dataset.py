@@ -115,19 +115,13 @@ def read_run_csv(path: Path) -> tuple[list[str], np.ndarray]:
                 for j, (name, cell) in enumerate(zip(header, cells)):
                     try:
                         v = float(cell)
+                        problem = "" if math.isfinite(v) else "not a finite number"
                     except ValueError:
-                        v = math.nan
-                    if not math.isfinite(v):
-                        if name not in REQUIRED_COLUMNS:
-                            numeric[j] = False
-                        elif math.isnan(v) and cell.strip().lower() != "nan":
-                            raise DatasetError(
-                                path, f"not a number: {cell!r}", row=line, column=name
-                            )
-                        else:
-                            raise DatasetError(
-                                path, f"not a finite number: {cell!r}", row=line, column=name
-                            )
+                        v, problem = math.nan, "not a number"
+                    if problem and name not in REQUIRED_COLUMNS:
+                        numeric[j] = False  # an extra column: ignored, as the format says
+                    elif problem:
+                        raise DatasetError(path, f"{problem}: {cell!r}", row=line, column=name)
                     vals.append(v)
                 rows.append(vals)
         except (csv.Error, UnicodeDecodeError) as e:

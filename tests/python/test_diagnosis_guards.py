@@ -100,16 +100,17 @@ def test_cross_validation_needs_most_families_and_a_total_gain():
     assert not tiny.confirmed  # wins everywhere, by less than the noise explains
 
 
+def _judged(rows) -> Verdict:
+    """The cross-validation verdict on folds (family, rss without, rss with, samples)."""
+    v = Verdict(folds=[FoldResult(name, a, b, n) for name, a, b, n in rows])
+    judge_cv(v)
+    return v
+
+
 def test_cross_validation_refuses_a_term_that_spoils_a_family():
-    """The fold figures (noise variances) of three diagnoses of independent-generator data."""
-
-    def verdict(rows):
-        v = Verdict(folds=[FoldResult(name, a, b, n) for name, a, b, n in rows])
-        judge_cv(v)
-        return v
-
+    """The fold figures (noise variances) of four diagnoses of independent-generator data."""
     # clean ls_b data: a "hysteresis" wins 4 of 7 folds and spoils 100 Hz, 50 V and 75 V
-    spurious = verdict(
+    spurious = _judged(
         [
             ("100 Hz", 4.22e8, 9.22e8, 3002),
             ("300 Hz", 4.88e7, 3.59e7, 3834),
@@ -123,7 +124,7 @@ def test_cross_validation_refuses_a_term_that_spoils_a_family():
     assert not spurious.confirmed
     assert "100 Hz (2.2 x), 50 V (2.3 x), 75 V (3.1 x)" in spurious.reasons[0]
     # a true load under a misfitting law: one fold's first-order refit misses, six gain >= 2.4 x
-    load = verdict(
+    load = _judged(
         [
             ("100 Hz", 2.67e9, 1.15e7, 3002),
             ("300 Hz", 3.62e9, 6.60e6, 3834),
@@ -136,7 +137,7 @@ def test_cross_validation_refuses_a_term_that_spoils_a_family():
     )
     assert load.confirmed, load.reasons
     # a true hysteresis under the same misfitting law: 1.9-28 x better on six families
-    hysteresis = verdict(
+    hysteresis = _judged(
         [
             ("100 Hz", 1.07e8, 2.50e7, 3002),
             ("300 Hz", 1.09e9, 4.04e7, 3834),
@@ -149,7 +150,7 @@ def test_cross_validation_refuses_a_term_that_spoils_a_family():
     )
     assert hysteresis.confirmed, hysteresis.reasons
     # miscalibrated clean LuGre: a "slew limit" spoils 50 V and barely helps 75 V: not excused
-    slew = verdict(
+    slew = _judged(
         [
             ("100 Hz", 19019.0, 12038.0, 3002),
             ("300 Hz", 507343.0, 93490.0, 3834),
@@ -162,7 +163,7 @@ def test_cross_validation_refuses_a_term_that_spoils_a_family():
     )
     assert not slew.confirmed and "50 V (2.9 x)" in slew.reasons[0]
     # worse by more than 1.5 x but by less than a noise variance per sample: noise, not harm
-    near_noise = verdict(
+    near_noise = _judged(
         [(f"f{i}", 500.0, 100.0, 100) for i in range(4)] + [("g", 50.0, 90.0, 100)]
     )
     assert near_noise.confirmed
@@ -190,16 +191,15 @@ def test_unidentifiable_drops_a_dead_parameter_and_one_of_a_degenerate_pair():
 def test_an_excused_family_does_not_count_in_the_total_either():
     # a true load under a misfitting law (independent generator, seed 101): six families
     # 1.6-290 x better, the long run's family 2.9 x worse and heavier than all the others' gain
-    v = Verdict(
-        folds=[
-            FoldResult("100 Hz", 1.33e9, 1.28e7, 3002),
-            FoldResult("300 Hz", 2.21e9, 7.53e6, 3834),
-            FoldResult("500 Hz", 2.93e9, 7.79e7, 10004),
-            FoldResult("1000 Hz", 7.96e9, 2.33e10, 4603),
-            FoldResult("2000 Hz", 1.16e9, 7.27e8, 2002),
-            FoldResult("50 V", 1.68e7, 3.60e6, 2501),
-            FoldResult("75 V", 6.21e7, 6.65e6, 2501),
+    v = _judged(
+        [
+            ("100 Hz", 1.33e9, 1.28e7, 3002),
+            ("300 Hz", 2.21e9, 7.53e6, 3834),
+            ("500 Hz", 2.93e9, 7.79e7, 10004),
+            ("1000 Hz", 7.96e9, 2.33e10, 4603),
+            ("2000 Hz", 1.16e9, 7.27e8, 2002),
+            ("50 V", 1.68e7, 3.60e6, 2501),
+            ("75 V", 6.21e7, 6.65e6, 2501),
         ]
     )
-    judge_cv(v)
     assert v.confirmed, v.reasons

@@ -63,18 +63,20 @@ def filter_noise_gain(q: int) -> float:
     return float(np.std(resample_poly(w, 1, q)[100:-100]))
 
 
-def major_loop_v(runs: list[Run]) -> float:
-    """The largest drive amplitude of a dataset (V): the major loop its nominal gain strokes."""
-    return max(
+def prepare_all(runs: list[Run]) -> list[FitRun]:
+    """Every run of a dataset prepared, each knowing the dataset's largest drive amplitude: the
+    major loop its nominal gain strokes (model.major_loop_gain)."""
+    stroke_v = max(
         (r.waveform.amplitude_v if r.waveform else float(np.ptp(r.drive_v)) for r in runs),
         default=0.0,
     )
+    return [prepare(r, stroke_v) for r in runs]
 
 
 def prepare(run: Run, stroke_v: float = 0.0) -> FitRun:
     """Filter and decimate a run to at most MAX_FIT_RATE_HZ (polyphase FIR, zero phase, linear
     extension at the ends so a run's offset and drift are not pulled toward zero). stroke_v:
-    major_loop_v of its dataset."""
+    the dataset's largest drive amplitude (prepare_all)."""
     q = max(1, math.ceil(1.0 / (run.dt_s * MAX_FIT_RATE_HZ) - 1e-9))
     x = run.x_m if q == 1 else resample_poly(run.x_m, 1, q, padtype="line")
     t = run.t_s[::q]

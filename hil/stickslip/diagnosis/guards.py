@@ -150,14 +150,6 @@ class Verdict:
     reasons: list[str] = field(default_factory=list)
 
     @property
-    def cv_drop(self) -> float:
-        return sum(f.rss_without - f.rss_with for f in self.folds)
-
-    @property
-    def cv_wins(self) -> int:
-        return sum(f.rss_with < f.rss_without for f in self.folds)
-
-    @property
     def confirmed(self) -> bool:
         return not self.reasons
 

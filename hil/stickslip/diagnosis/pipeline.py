@@ -27,9 +27,8 @@ from .fit import (
     evaluate,
     filter_noise_gain,
     fit,
-    major_loop_v,
     predict_all,
-    prepare,
+    prepare_all,
 )
 from .guards import (
     FINAL_SHARE,
@@ -519,7 +518,7 @@ def diagnose(
     ds = D.load(path)  # validated whole before anything runs
     for w in ds.warnings:
         say(f"warning: {w}")
-    runs = [prepare(r, major_loop_v(ds.runs)) for r in ds.runs]
+    runs = prepare_all(ds.runs)
     train, val = split_runs(runs)
     nominal_params: ActuatorParams = ds.actuator
     timing: dict[str, float] = {}

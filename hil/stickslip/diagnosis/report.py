@@ -14,7 +14,7 @@ import numpy as np  # noqa: E402
 
 from .. import dataset as D  # noqa: E402
 from .catalog import CAUSES, FRICTION_LAW, FRICTION_LAW_TEXT  # noqa: E402
-from .fit import FitRun, Model, cycle_steps, major_loop_v, predict, prepare  # noqa: E402
+from .fit import FitRun, Model, cycle_steps, predict, prepare_all  # noqa: E402
 from .guards import CV_MAX_HARM, CV_MIN_DROP, FINAL_SHARE, FWD_SHARE  # noqa: E402
 from .pipeline import (  # noqa: E402
     MIN_BIC_DROP,
@@ -96,8 +96,7 @@ def _plot_signatures(path: Path, sig: dict[str, np.ndarray], title: str) -> None
 def write_report(d: Diagnosis, out_dir: str | Path) -> Path:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    ds_runs = D.load(d.dataset).runs
-    runs = [prepare(r, major_loop_v(ds_runs)) for r in ds_runs]
+    runs = prepare_all(D.load(d.dataset).runs)
     val = [r for r in runs if r.id in d.val_ids]
     models = {
         "nominal": d.nominal_model,
