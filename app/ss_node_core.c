@@ -2,6 +2,7 @@
 #include "ss_node_core.h"
 
 #include <math.h>
+#include <string.h>
 
 static const ss_node_param_def_t PARAMS[SS_NODE_N_PARAMS] = {
 #define SS_NODE_PARAM(tag, name, def, min, max) {name, min, max},
@@ -178,9 +179,49 @@ ss_proto_error_t ss_node_core_reset(ss_node_core_t *c, float drive0_v, ss_node_r
     return SS_PERR_NONE;
 }
 
+/* The sawtooth's fields in LOAD_WAVEFORM's order (the CAN SET_WAVE index) with the library's
+ * ranges (ss_waveform.h), so that a refusal names the field at fault and what it accepts. */
+static const char *const WAVE_FIELDS[SS_NODE_N_WAVE_FIELDS] = {"frequency_hz",  "amplitude_v", "offset_v",
+                                                               "rise_fraction", "direction",   "cycles"};
+
+int ss_node_core_wave_field(const char *what)
+{
+    for (int i = 0; i < (int)SS_NODE_N_WAVE_FIELDS; ++i) {
+        if (strcmp(what, WAVE_FIELDS[i]) == 0) {
+            return i;
+        }
+    }
+    return -1;
+}
+
+static ss_proto_error_t check_wave(const ss_waveform_config_f32_t *w, ss_node_refusal_t *why)
+{
+    const float v[4] = {w->frequency_hz, w->amplitude_v, w->offset_v, w->rise_fraction};
+    const char *const range[4] = {"outside [1e-6, 1e6] Hz", "outside " SS_NODE_MAX_DRIVE_V_TEXT,
+                                  "outside " SS_NODE_MAX_DRIVE_V_TEXT, "outside (0, 1)"};
+    const int ok[4] = {v[0] >= 1e-6f && v[0] <= 1e6f, fabsf(v[1]) <= SS_NODE_MAX_DRIVE_V,
+                       fabsf(v[2]) <= SS_NODE_MAX_DRIVE_V, v[3] > 0.0f && v[3] < 1.0f};
+    for (int i = 0; i < 4; ++i) {
+        if (!isfinite(v[i])) {
+            return refuse(why, SS_PERR_NON_FINITE, WAVE_FIELDS[i], "not a finite number");
+        }
+        if (!ok[i]) {
+            return refuse(why, SS_PERR_OUT_OF_RANGE, WAVE_FIELDS[i], range[i]);
+        }
+    }
+    if (w->direction != 1 && w->direction != -1) {
+        return refuse(why, SS_PERR_OUT_OF_RANGE, WAVE_FIELDS[4], "+1 or -1");
+    }
+    return SS_PERR_NONE;
+}
+
 ss_proto_error_t ss_node_core_load_waveform(ss_node_core_t *c, const ss_waveform_config_f32_t *w,
                                             ss_node_refusal_t *why)
 {
+    const ss_proto_error_t e = check_wave(w, why);
+    if (e != SS_PERR_NONE) {
+        return e;
+    }
     ss_node_wave_t wm;
     ss_node_wave_state_t ws;
     const char *reason = "";

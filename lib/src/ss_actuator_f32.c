@@ -89,9 +89,20 @@ static void rod_flow(const ss_actuator_config_f32_t *cfg, float phi[4])
         co = cosf(wd * dt);
         si = sinf(wd * dt) / wd;
     } else if (wd2 < 0.0f) {
+        /* over-damped: e^(-sigma t) cosh and sinh from the two real roots -sigma -+ w, never
+         * cosh(w dt) itself (it overflows when a light, stiff, damped rod makes w dt > 89, and
+         * then inf x e^(-sigma dt) = inf x 0 is NaN). The slow root in a form without cancellation. */
         const float w = sqrtf(-wd2);
-        co = coshf(w * dt);
-        si = sinhf(w * dt) / w;
+        const float e_slow = expf(-wn2 / (sigma + w) * dt);
+        const float e_fast = expf(-(sigma + w) * dt);
+        const float s =
+            (w * dt < 0.5f) ? e_fast * expm1f(2.0f * w * dt) / (2.0f * w) : (e_slow - e_fast) / (2.0f * w);
+        const float c = 0.5f * (e_slow + e_fast);
+        phi[0] = c + sigma * s;
+        phi[1] = s;
+        phi[2] = -wn2 * s;
+        phi[3] = c - sigma * s;
+        return;
     } else {
         co = 1.0f;
         si = dt;

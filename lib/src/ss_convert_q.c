@@ -93,10 +93,18 @@ static void rod_flow(double k, double c, double m, double dt, double phi[4])
         const double wd = sqrt(wd2);
         co = cos(wd * dt);
         si = sin(wd * dt) / wd;
-    } else if (wd2 < 0.0) {
+    } else if (wd2 < 0.0) { /* over-damped: from the real roots, as the float family's */
         const double w = sqrt(-wd2);
-        co = cosh(w * dt);
-        si = sinh(w * dt) / w;
+        const double e_slow = exp(-wn2 / (sigma + w) * dt);
+        const double e_fast = exp(-(sigma + w) * dt);
+        const double s =
+            (w * dt < 0.5) ? e_fast * expm1(2.0 * w * dt) / (2.0 * w) : (e_slow - e_fast) / (2.0 * w);
+        const double cc = 0.5 * (e_slow + e_fast);
+        phi[0] = cc + sigma * s;
+        phi[1] = s;
+        phi[2] = -wn2 * s;
+        phi[3] = cc - sigma * s;
+        return;
     }
     const double e = exp(-sigma * dt);
     phi[0] = e * (co + sigma * si);

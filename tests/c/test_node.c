@@ -199,6 +199,68 @@ static void test_no_accepted_drive_makes_the_state_non_finite(void **unused)
     }
 }
 
+/* Every parameter at either end of its range, one at a time, then drives across the whole
+ * range: the state stays finite. Found by bench/fuzz/fuzz_node_core.c: a 10 ug rod (in range)
+ * made the over-damped rod flow inf x 0 = NaN on the first step. */
+static void test_parameter_extremes_keep_the_state_finite(void **unused)
+{
+    (void)unused;
+    static const float drives[] = {0.0f, SS_NODE_MAX_DRIVE_V, -SS_NODE_MAX_DRIVE_V, 1.0f};
+    for (uint32_t id = 0; id < SS_NODE_N_PARAMS; ++id) {
+        const ss_node_param_def_t *d = ss_node_core_param_def(id);
+        for (int end = 0; end < 2; ++end) {
+            ss_node_core_t core;
+            ss_node_refusal_t why;
+            ss_node_core_init(&core);
+            if (ss_node_core_set_param(&core, id, end ? d->max : d->min, &why) != SS_PERR_NONE) {
+                continue; /* refused as a combination (mu_s < mu_d): nothing changed */
+            }
+            for (int i = 0; i < 400; ++i) {
+                assert_int_equal(ss_node_core_drive(&core, drives[(i / 50) % 4]), SS_PERR_NONE);
+                const ss_node_row_t r = ss_node_core_row(&core);
+                if (!(isfinite(r.x_rod_m) && isfinite(r.x_slider_hi_m) && isfinite(r.force_n))) {
+                    fail_msg("%s = %g: state not finite at step %d", d->name, (double)(end ? d->max : d->min),
+                             i);
+                }
+            }
+        }
+    }
+}
+
+/* A refused waveform names its field (it said "waveform: parameter out of range"), and the
+ * name maps back to the field's index (the CAN SET_WAVE index). */
+static void test_refused_waveform_names_its_field(void **unused)
+{
+    (void)unused;
+    const ss_waveform_config_f32_t good = ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, 20);
+    struct {
+        int field;
+        float value;
+        ss_proto_error_t code;
+    } cases[] = {
+        {0, 2e6f, SS_PERR_OUT_OF_RANGE}, {0, 0.0f, SS_PERR_OUT_OF_RANGE},   {1, -2e5f, SS_PERR_OUT_OF_RANGE},
+        {2, NAN, SS_PERR_NON_FINITE},    {3, 1.0f, SS_PERR_OUT_OF_RANGE},   {3, 0.0f, SS_PERR_OUT_OF_RANGE},
+        {4, 0.0f, SS_PERR_OUT_OF_RANGE}, {1, INFINITY, SS_PERR_NON_FINITE},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        ss_waveform_config_f32_t w = good;
+        float *f[4] = {&w.frequency_hz, &w.amplitude_v, &w.offset_v, &w.rise_fraction};
+        if (cases[k].field == 4) {
+            w.direction = (int32_t)cases[k].value;
+        } else {
+            *f[cases[k].field] = cases[k].value;
+        }
+        ss_node_core_t core;
+        ss_node_refusal_t why = {"", ""};
+        ss_node_core_init(&core);
+        assert_int_equal(ss_node_core_load_waveform(&core, &w, &why), cases[k].code);
+        assert_int_equal(ss_node_core_wave_field(why.what), cases[k].field);
+        assert_true(why.why[0] != '\0');
+        assert_false(core.wave_loaded);
+    }
+    assert_int_equal(ss_node_core_wave_field("waveform"), -1);
+}
+
 static void test_free_run_paced_busy_stop(void **unused)
 {
     (void)unused;
@@ -214,7 +276,7 @@ static void test_free_run_paced_busy_stop(void **unused)
     ss_put_f32(&w[12], 1.5f); /* bad rise fraction */
     w[16] = 1;
     ss_put_u32(&w[17], 2);
-    expect_error(request(SS_MSG_LOAD_WAVEFORM, w, 21), SS_PERR_OUT_OF_RANGE, "waveform");
+    expect_error(request(SS_MSG_LOAD_WAVEFORM, w, 21), SS_PERR_OUT_OF_RANGE, "rise_fraction: outside (0, 1)");
     ss_put_f32(&w[12], 0.95f);
     assert_int_equal(request(SS_MSG_LOAD_WAVEFORM, w, 21)->type, SS_MSG_LOAD_WAVEFORM | SS_MSG_REPLY);
     request(SS_MSG_RUN, run, 7);
@@ -532,6 +594,8 @@ int main(void)
         cmocka_unit_test_setup(test_garbage_unknown_and_disconnect, setup),
         cmocka_unit_test_setup(test_set_param_then_run_does_not_jump, setup),
         cmocka_unit_test_setup(test_paced_deadline_after_16_s, setup),
+        cmocka_unit_test(test_parameter_extremes_keep_the_state_finite),
+        cmocka_unit_test(test_refused_waveform_names_its_field),
         cmocka_unit_test_setup(test_can_commands, setup_can),
         cmocka_unit_test_setup(test_can_refusal_sends_its_reason, setup_can),
         cmocka_unit_test_setup(test_can_lockstep_busy_and_traffic, setup_can),

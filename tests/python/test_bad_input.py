@@ -5,6 +5,7 @@ is reported as written when it was not."""
 
 from __future__ import annotations
 
+import io
 import struct
 import subprocess
 from pathlib import Path
@@ -331,3 +332,119 @@ def test_a_good_hello_is_read():
 
     info = _client_replying(protocol.HELLO, HELLO_OK).hello()
     assert (info.protocol, info.model, info.variant) == (1, "ls", "f32")
+
+
+@pytest.mark.parametrize(
+    ("url", "words"),
+    [
+        ("socket://127.0.0.1", "expected socket://HOST:PORT with a port 1..65535"),
+        ("socket://:5000", "expected socket://HOST:PORT"),
+        ("socket://127.0.0.1:0", "expected socket://HOST:PORT"),
+        ("socket://127.0.0.1:1", "cannot open the link 'socket://127.0.0.1:1'"),
+        ("/dev/nonexistent-tty", "cannot open the link '/dev/nonexistent-tty'"),
+    ],
+)
+def test_a_bad_serial_link_url_is_named(url, words):
+    from stickslip.hil.client import NodeClient
+    from stickslip.hil.node import HilError
+
+    with pytest.raises(HilError) as e:
+        NodeClient(url)
+    assert words in str(e.value)
+
+
+def _frames_after(request, *frames: bytes, closes: bool = False):
+    """The serial client's answer to request when the node sends frames (then closes or not)."""
+    from stickslip.hil import protocol as P
+    from stickslip.hil.client import NodeClient
+    from stickslip.hil.node import LinkStats
+
+    class Port:
+        data = b"".join(frames)
+
+        def fileno(self):
+            raise io.UnsupportedOperation  # in memory: the client sleeps, no select()
+
+        def read(self, n):
+            if not self.data and closes:
+                import serial
+
+                raise serial.SerialException("socket disconnected")
+            d, self.data = self.data[:n], self.data[n:]
+            return d
+
+        def write(self, b):
+            return len(b)
+
+        def flush(self):
+            pass
+
+    c = NodeClient.__new__(NodeClient)
+    c.port, c.reader, c.seq, c.stats, c._node_seq = Port(), P.FrameReader(), 0, LinkStats(), None
+    c._inbox, c.telemetry, c.timeout_s, c._run_progress = (
+        __import__("collections").deque(),
+        [],
+        0.05,
+        None,
+    )
+    return request(c)
+
+
+def _decoder_cases():
+    from stickslip.hil import protocol as P
+
+    return [
+        # found by bench/fuzz_python.py decoder: IndexError, struct.error, ValueError before
+        (
+            "an ERROR frame without its header",
+            P.frame(P.ERROR, 0, b""),
+            "ERROR",
+            "0 bytes, at least 3",
+        ),
+        (
+            "a telemetry frame cut short",
+            P.frame(P.TELEMETRY, 0, b"\x00\x01"),
+            "TELEMETRY",
+            "2 bytes",
+        ),
+        (
+            "a telemetry frame claiming more rows than it holds",
+            P.frame(P.TELEMETRY, 0, b"\x00" + struct.pack("<IH", 0, 3)),
+            "TELEMETRY",
+            "7 bytes for 3 rows",
+        ),
+        (
+            "a reply without its ref_seq",
+            P.frame(P.GET_PARAM | P.REPLY, 0, b""),
+            "GET_PARAM",
+            "0 bytes",
+        ),
+        (
+            "a STOP reply without the step count",
+            P.frame(P.STOP | P.REPLY, 0, b"\x00"),
+            "STOP",
+            "0 bytes",
+        ),
+    ]
+
+
+@pytest.mark.parametrize("case", range(5))
+def test_the_serial_decoder_names_a_malformed_frame(case):
+    from stickslip.hil.node import BadReplyError
+
+    what, frame, request, words = _decoder_cases()[case]
+    call = {"ERROR": "get", "TELEMETRY": "get", "GET_PARAM": "get", "STOP": "stop"}[request]
+    with pytest.raises(BadReplyError) as e:
+        _frames_after(lambda c: c.get(0) if call == "get" else c.stop(), frame)
+    assert request in str(e.value) and words in str(e.value), (what, str(e.value))
+
+
+def test_a_node_that_closes_the_link_is_heard_verbatim():
+    # what the node said before it closed reaches the user; the close is a HilError, not
+    # pyserial's "read failed: socket disconnected"
+    from stickslip.hil import protocol as P
+    from stickslip.hil.node import LinkClosedError
+
+    said = P.frame(P.ERROR, 0, bytes([9, 8, 0]) + b"another client is connected")
+    with pytest.raises(LinkClosedError, match="the node said: another client is connected"):
+        _frames_after(lambda c: c.get(0), said, closes=True)

@@ -79,8 +79,30 @@ def test_parameters_and_refusals_over_can():
         assert c.get("rod_mass_kg") == pytest.approx(1.1e-3)
         with pytest.raises(NodeError, match="no_waveform"):
             c.run(10)
-        with pytest.raises(NodeError, match="out_of_range"):
-            c.request("SET_WAVE", index=4, value=0.5)  # direction must be +-1
+        # the node's SS_REASON frames reach the user (the client said "SET_WAVE index 4")
+        with pytest.raises(NodeError, match="out_of_range: direction: \\+1 or -1"):
+            c.request("SET_WAVE", index=4, value=0.5)
+        # a refused LOAD_WAVE names its field, the range, and what was sent (was "index 0")
+        with pytest.raises(NodeError) as e:
+            c.load_waveform(Sawtooth(frequency_hz=2e6))
+        assert "frequency_hz: outside [1e-6, 1e6] Hz (sent 2000000.0)" in str(e.value)
+
+
+@pytest.mark.parametrize(
+    ("channel", "words"),
+    [
+        ("socket://127.0.0.1", "expected socket://HOST:PORT with a port 1..65535"),
+        ("socket://127.0.0.1:70000", "expected socket://HOST:PORT"),
+        ("socket://127.0.0.1:1", "cannot open the CAN link 'slcan:socket://127.0.0.1:1'"),
+    ],
+)
+def test_a_bad_can_link_url_is_named(channel, words):
+    # python-can said "'debug|info|warning|error'"
+    from stickslip.hil.node import HilError
+
+    with pytest.raises(HilError) as e:
+        CanNodeClient(channel)
+    assert words in str(e.value)
 
 
 def test_duplicate_drive_frame_is_not_executed():

@@ -257,6 +257,44 @@ def test_second_client_is_refused(tcp_node):
         assert c.get("mu_s") == pytest.approx(0.36)  # the first client is served on
 
 
+def test_second_client_hears_the_nodes_own_reason(tcp_node):
+    # it was told "socket disconnected": pyserial emptied the socket as it opened it
+    with NodeClient(tcp_node.url) as c:
+        with pytest.raises(NodeError, match="busy: another client is connected"):
+            NodeClient(tcp_node.url)
+        assert c.get("mu_s") == pytest.approx(0.36)
+
+
+def test_a_long_run_that_streams_is_busy_not_lost(tcp_node):
+    # telemetry renews the wait: a run longer than the reply timeout completes (it was reported
+    # as "no reply, lost"); 4 M unpaced steps take ~0.4-1 s here, the timeout is 0.05 s
+    with NodeClient(tcp_node.url) as c:
+        c.load_waveform(Sawtooth(cycles=2000))
+        tel = c.run(4_000_000, decimation=4000, timeout_s=0.05)
+        assert len(tel.step) == 1000 and tel.step[-1] == 4_000_000
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "words"),
+    [
+        ("frequency_hz", 2e6, "frequency_hz: outside [1e-6, 1e6] Hz (sent 2000000.0)"),
+        ("amplitude_v", -1e6, "amplitude_v: outside [-1e5, 1e5] V (sent -1000000.0)"),
+        ("offset_v", float("inf"), "non_finite: offset_v: not a finite number (sent inf)"),
+        ("rise_fraction", 1.0, "rise_fraction: outside (0, 1) (sent 1.0)"),
+        ("direction", 0, "direction: +1 or -1 (sent 0)"),
+    ],
+)
+def test_a_refused_waveform_names_its_field(tcp_node, field, value, words):
+    # it said "waveform: parameter out of range (status -2)"
+    import dataclasses
+
+    with NodeClient(tcp_node.url) as c:
+        bad = dataclasses.replace(Sawtooth(), **{field: value})
+        with pytest.raises(NodeError) as e:
+            c.load_waveform(bad)
+        assert words in str(e.value)
+
+
 def test_disconnect_mid_run_recovers(tcp_node):
     c = NodeClient(tcp_node.url)
     c.load_waveform(Sawtooth(cycles=1000))

@@ -11,11 +11,14 @@ from pathlib import Path
 import can
 import cantools
 import numpy as np
+import serial
 
 from ..model import VARIANTS, Sawtooth
 from . import protocol as P
 from .node import (
     BadReplyError,
+    HilError,
+    LinkClosedError,
     LinkStats,
     LinkTimeoutError,
     NodeError,
@@ -23,6 +26,8 @@ from .node import (
     ParamInfo,
     StepProgress,
     Telemetry,
+    check_socket_url,
+    naming_sent_value,
 )
 
 DBC_PATH = Path(__file__).with_name("stickslip.dbc")
@@ -58,7 +63,17 @@ class CanNodeClient:
             kw.setdefault("sleep_after_open", 0)
             kw.setdefault("bitrate", 1_000_000)
         self.url = f"{interface}:{channel}"
-        self.bus = can.Bus(interface=interface, channel=channel, **kw)
+        check_socket_url(channel)
+        try:
+            self.bus = can.Bus(interface=interface, channel=channel, **kw)
+        except (can.CanError, serial.SerialException, OSError, ValueError) as e:
+            # the host node refuses a second client and closes at once; over SLCAN python-can
+            # then only sees its own writes fail
+            hint = " (a node serves one client at a time: is another one connected?)"
+            raise LinkClosedError(
+                f"cannot open the CAN link {self.url!r}: {e}"
+                + (hint if channel.startswith("socket://") else "")
+            ) from None
         self.db = load_dbc()
         self.timeout_s = timeout_s
         self.seq = 0
@@ -90,7 +105,12 @@ class CanNodeClient:
             m = self.db.get_message_by_frame_id(msg.arbitration_id)
         except KeyError:
             return ("", {})  # other traffic
-        signals = m.decode(bytes(msg.data), decode_choices=False)
+        try:
+            signals = m.decode(bytes(msg.data), decode_choices=False)
+        except (cantools.database.DecodeError, ValueError, KeyError) as e:
+            raise BadReplyError(
+                m.name, f"{len(msg.data)} data bytes {bytes(msg.data).hex()}: {e}"
+            ) from None
         assert isinstance(signals, dict)  # a plain (not multiplexed container) message
         return m.name, signals
 
@@ -110,6 +130,7 @@ class CanNodeClient:
         waited = timeout_s or self.timeout_s
         deadline = time.monotonic() + waited
         pending: dict = {}
+        reason: list[bytes] = []  # SS_REASON frames before a refusal: the node's own words
         while True:
             left = deadline - time.monotonic()
             got = self.recv(max(left, 0.0)) if left > 0 else None
@@ -125,9 +146,12 @@ class CanNodeClient:
                     pending = {}
                     if progress is not None:
                         progress(int(states[-1][0]))
+            elif name == "SS_REASON" and sig["seq"] == seq and sig["cmd"] == CMD[cmd]:
+                reason.append(int(sig["text"]).to_bytes(6, "little").rstrip(b"\0"))
             elif name == "SS_REPLY" and sig["seq"] == seq and sig["cmd"] == CMD[cmd]:
                 if sig["status"]:
-                    raise NodeError(sig["status"], CMD[cmd], f"{cmd} index {sig['index']}")
+                    text = b"".join(reason).decode("ascii", errors="replace")
+                    raise NodeError(sig["status"], CMD[cmd], text or f"{cmd} index {sig['index']}")
                 return sig
 
     # ------------------------------------------------------------ requests
@@ -171,9 +195,12 @@ class CanNodeClient:
         self.request("RESET", value=drive0_v)
 
     def load_waveform(self, w: Sawtooth) -> None:
-        for i, f in enumerate(WAVE_FIELDS):
-            self.request("SET_WAVE", index=i, value=float(getattr(w, f)))
-        self.request("LOAD_WAVE")
+        try:
+            for i, f in enumerate(WAVE_FIELDS):
+                self.request("SET_WAVE", index=i, value=float(getattr(w, f)))
+            self.request("LOAD_WAVE")
+        except NodeError as e:
+            raise naming_sent_value(e, {f: getattr(w, f) for f in WAVE_FIELDS}) from None
 
     def lockstep(
         self,
@@ -242,7 +269,7 @@ class CanNodeClient:
             progress=progress,
         )
         if int(r["value"]) != steps:
-            raise RuntimeError(f"run ended after {int(r['value'])} of {steps} steps")
+            raise HilError(f"run ended after {int(r['value'])} of {steps} steps (stopped)")
         return Telemetry.from_rows(rows)
 
     def stop(self) -> int:
@@ -250,6 +277,10 @@ class CanNodeClient:
 
 
 def _row(s: dict) -> tuple:
+    """One state from its A, B and C frames (SS_STATE_C closes it)."""
+    missing = [k for k in _ROW_SIGNALS if k not in s]
+    if missing:
+        raise BadReplyError("SS_STATE_C", f"a state without {missing}: its A or B frame was lost")
     return (
         s["step"],
         s["drive_v"],
@@ -258,3 +289,6 @@ def _row(s: dict) -> tuple:
         s["x_slider_lo_m"],
         s["friction_n"],
     )
+
+
+_ROW_SIGNALS = ("step", "drive_v", "x_rod_m", "x_slider_hi_m", "x_slider_lo_m", "friction_n")

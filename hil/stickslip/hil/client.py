@@ -22,6 +22,8 @@ from ..model import VARIANTS, Sawtooth
 from . import protocol as P
 from .node import (
     BadReplyError,
+    HilError,
+    LinkClosedError,
     LinkStats,
     LinkTimeoutError,
     NodeError,
@@ -29,14 +31,38 @@ from .node import (
     ParamInfo,
     StepProgress,
     Telemetry,
+    check_socket_url,
     checked,
+    naming_sent_value,
 )
 
 
-def _rows(payload: bytes, offset: int) -> tuple[int, list[tuple]]:
+def _rows(what: str, payload: bytes, offset: int) -> tuple[int, list[tuple]]:
+    """A block of state rows (u32 first step, u16 count, the rows), checked for its length."""
+    checked(what, payload, offset + 6)
     first, n = struct.unpack_from("<IH", payload, offset)
+    if len(payload) != offset + 6 + n * P.ROW.size:
+        raise BadReplyError(what, f"{len(payload)} bytes for {n} rows")
     rows = [P.ROW.unpack_from(payload, offset + 6 + i * P.ROW.size) for i in range(n)]
     return first, rows
+
+
+def _open_port(url: str) -> serial.SerialBase:
+    """The serial port for url, the HilError for a bad one. pyserial empties a socket's input as
+    it opens it; a node that refuses a second client says why at once, so for socket:// URLs the
+    first bytes are kept."""
+    check_socket_url(url)
+    try:
+        port = serial.serial_for_url(url, baudrate=1_000_000, timeout=0, do_not_open=True)
+        if url.startswith("socket://"):
+            port.reset_input_buffer = lambda: None  # type: ignore[method-assign]
+            port.open()
+            del port.reset_input_buffer
+        else:
+            port.open()
+    except (serial.SerialException, ValueError) as e:
+        raise LinkClosedError(f"cannot open the link {url!r}: {e}") from None
+    return port
 
 
 class NodeClient:
@@ -46,7 +72,7 @@ class NodeClient:
     def __init__(self, url: str, timeout_s: float = 2.0, handshake: bool = True):
         self.url, self.timeout_s = url, timeout_s
         # non-blocking: waiting is done with select on the port's descriptor (_read_available)
-        self.port = serial.serial_for_url(url, baudrate=1_000_000, timeout=0)
+        self.port = _open_port(url)
         self.reader = P.FrameReader()
         self.seq = 0
         self.stats = LinkStats()
@@ -83,10 +109,15 @@ class NodeClient:
         ):
             fd = None  # loop:// and other in-memory ports
         if fd is None:
-            time.sleep(min(wait_s, 0.001))
+            time.sleep(max(0.0, min(wait_s, 0.001)))
         else:
             select.select([fd], [], [], max(0.0, min(wait_s, 0.05)))
-        return self.port.read(65536)
+        try:
+            return self.port.read(65536)
+        except serial.SerialException as e:
+            said = [r for r in self.stats.bad_frames if r.startswith("unmatched error: ")]
+            words = f"; the node said: {said[-1][len('unmatched error: ') :]}" if said else ""
+            raise LinkClosedError(f"the link to the node closed ({e}){words}") from None
 
     def _pump(self, deadline: float) -> bool:
         data = self._read_available(deadline - time.monotonic())
@@ -121,30 +152,39 @@ class NodeClient:
         return self.wait_reply(type_, seq, timeout_s)
 
     def wait_reply(self, type_: int, seq: int, timeout_s: float | None = None) -> bytes:
+        """The payload of the reply to request (type_, seq), after its ref_seq. Telemetry that
+        arrives meanwhile is kept, and each frame of it renews the wait: a node that streams a
+        long run is busy, not lost."""
         waited = timeout_s or self.timeout_s
         deadline = time.monotonic() + waited
+        last_step = None
         while True:
             try:
                 pkt = self._next(deadline - time.monotonic())
             except LinkTimeoutError:
+                where = (
+                    "" if last_step is None else f" (its telemetry stopped after step {last_step})"
+                )
                 raise LinkTimeoutError(
-                    f"no reply to request 0x{type_:02x} (seq {seq}) within {waited} s: "
+                    f"no reply to request 0x{type_:02x} (seq {seq}) within {waited} s{where}: "
                     "the request or its reply was lost"
                 ) from None
             if pkt.type == P.TELEMETRY:
-                rows = _rows(pkt.payload, 1)[1]
+                rows = _rows("TELEMETRY", pkt.payload, 1)[1]
                 self.telemetry.extend(rows)
-                if rows and self._run_progress is not None:
-                    self._run_progress(int(rows[-1][0]))
-            elif pkt.type == P.ERROR and pkt.payload[0] == seq:
-                reason = pkt.payload[3:].decode(errors="replace")
-                raise NodeError(pkt.payload[1], pkt.payload[2], reason)
-            elif pkt.type == (type_ | P.REPLY) and pkt.payload[0] == seq:
-                return pkt.payload[1:]
+                deadline = time.monotonic() + waited
+                if rows:
+                    last_step = int(rows[-1][0])
+                    if self._run_progress is not None:
+                        self._run_progress(last_step)
             elif pkt.type == P.ERROR:
-                self.stats.bad_frames.append(
-                    f"unmatched error: {pkt.payload[3:].decode(errors='replace')}"
-                )
+                checked("ERROR", pkt.payload, 3)
+                reason = pkt.payload[3:].decode(errors="replace")
+                if pkt.payload[0] == seq:
+                    raise NodeError(pkt.payload[1], pkt.payload[2], reason)
+                self.stats.bad_frames.append(f"unmatched error: {reason}")
+            elif pkt.type == (type_ | P.REPLY) and checked(P.name(type_), pkt.payload, 1)[0] == seq:
+                return pkt.payload[1:]
 
     # ------------------------------------------------------------ requests
     def hello(self) -> NodeInfo:
@@ -164,7 +204,7 @@ class NodeClient:
     def param_info(self, pid: int) -> ParamInfo:
         b = checked("PARAM_INFO", self.request(P.PARAM_INFO, bytes([pid])), 13)
         i, v, lo, hi = struct.unpack_from("<Bfff", b)
-        return ParamInfo(i, b[13:].decode(), v, lo, hi)
+        return ParamInfo(i, b[13:].decode(errors="replace"), v, lo, hi)
 
     def params(self) -> dict[str, ParamInfo]:
         return {p.name: p for p in (self.param_info(i) for i in range(self.info.n_params))}
@@ -200,11 +240,14 @@ class NodeClient:
             w.direction,
             w.cycles,
         )
-        self.request(P.LOAD_WAVEFORM, payload)
+        try:
+            self.request(P.LOAD_WAVEFORM, payload)
+        except NodeError as e:
+            raise naming_sent_value(e, w.to_dict()) from None
 
     def drive_block(self, drive_v: np.ndarray, decimation: int = 1) -> list[tuple]:
         payload = struct.pack("<H", decimation) + np.asarray(drive_v, "<f4").tobytes()
-        return _rows(self.request(P.DRIVE_BLOCK, payload), 0)[1]
+        return _rows("DRIVE_BLOCK", self.request(P.DRIVE_BLOCK, payload), 0)[1]
 
     def lockstep(
         self,
@@ -245,13 +288,13 @@ class NodeClient:
             )
         finally:
             self._run_progress = None
-        (done,) = struct.unpack_from("<I", b)
+        (done,) = struct.unpack_from("<I", checked("RUN", b, 4))
         if done != steps:
-            raise RuntimeError(f"run ended after {done} of {steps} steps")
+            raise HilError(f"run ended after {done} of {steps} steps (stopped)")
         return Telemetry.from_rows(self.telemetry)
 
     def stop(self) -> int:
-        return struct.unpack_from("<I", self.request(P.STOP))[0]
+        return struct.unpack_from("<I", checked("STOP", self.request(P.STOP), 4))[0]
 
 
 # ---------------------------------------------------------------- the host node

@@ -4,6 +4,7 @@ satisfy, and the values and errors they share."""
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from typing import Callable, Optional, Protocol, TypeVar
 
@@ -19,7 +20,8 @@ StepProgress = Optional[Callable[[int], None]]
 
 class HilError(RuntimeError):
     """Every error a node session raises: NodeError (the node refused, with its own reason),
-    LinkTimeoutError (no reply in time), BadReplyError (a reply this client cannot read)."""
+    LinkTimeoutError (no reply in time), LinkClosedError (the connection closed), BadReplyError
+    (a reply this client cannot read)."""
 
 
 class NodeError(HilError):
@@ -34,6 +36,35 @@ class NodeError(HilError):
 
 class LinkTimeoutError(HilError, TimeoutError):
     """No reply in time: the request or its reply was lost."""
+
+
+class LinkClosedError(HilError, ConnectionError):
+    """The node (or the link) closed the connection; what the node said before, verbatim."""
+
+
+_SOCKET_URL = re.compile(r"socket://([A-Za-z0-9.\-]+|\[[0-9A-Fa-f:]+\]):([0-9]{1,5})(\?.*)?")
+
+
+def check_socket_url(url: str) -> None:
+    """Refuse a malformed socket:// URL by name (pyserial's own message is cryptic); other URLs
+    and device paths pass unchanged."""
+    if not url.startswith("socket://"):
+        return
+    m = _SOCKET_URL.fullmatch(url)
+    if m is None or not 0 < int(m.group(2)) < 65536:
+        raise LinkClosedError(
+            f"link URL {url!r}: expected socket://HOST:PORT with a port 1..65535 "
+            "(socket://127.0.0.1:5000)"
+        )
+
+
+def naming_sent_value(e: NodeError, sent: dict) -> NodeError:
+    """e, with the value this client sent appended when the node's reason names one of sent's
+    fields ("frequency_hz: outside [1e-6, 1e6] Hz (sent 2000000.0)")."""
+    field = e.reason.split(":", 1)[0]
+    if field not in sent:
+        return e
+    return NodeError(e.code, e.request_type, f"{e.reason} (sent {sent[field]!r})")
 
 
 class BadReplyError(HilError):

@@ -15,6 +15,26 @@ MAX_WIRE = MAX_PACKET + MAX_PACKET // 254 + 2
 
 HELLO, PARAM_INFO, GET_PARAM, SET_PARAM, RESET, LOAD_WAVEFORM, DRIVE_BLOCK, RUN, STOP = range(1, 10)
 TELEMETRY, ERROR, REPLY = 0x10, 0x7F, 0x80
+TYPE_NAMES = {
+    HELLO: "HELLO",
+    PARAM_INFO: "PARAM_INFO",
+    GET_PARAM: "GET_PARAM",
+    SET_PARAM: "SET_PARAM",
+    RESET: "RESET",
+    LOAD_WAVEFORM: "LOAD_WAVEFORM",
+    DRIVE_BLOCK: "DRIVE_BLOCK",
+    RUN: "RUN",
+    STOP: "STOP",
+    TELEMETRY: "TELEMETRY",
+    ERROR: "ERROR",
+}
+
+
+def name(type_: int) -> str:
+    """A message type's name ("RUN"), or its number for one the protocol does not define."""
+    return TYPE_NAMES.get(type_, f"0x{type_:02x}")
+
+
 MAX_ROWS = 40
 ROW = struct.Struct("<Ifffff")  # step, drive_v, x_rod_m, x_slider_hi_m, x_slider_lo_m, friction_n
 
