@@ -141,6 +141,19 @@ ss_proto_error_t ss_node_core_get_param(const ss_node_core_t *c, uint32_t id, fl
     return SS_PERR_NONE;
 }
 
+/* A parameter in its own range can still make the library's config invalid through a product
+ * (Fs = mu_s N, Fc = mu_d N); say which rule, not only the library's field name. */
+static const char *combined_reason(const char *field)
+{
+    if (strcmp(field, "friction.fs_n") == 0) {
+        return "Fs = mu_s N: in [1e-6, 1e4] N";
+    }
+    if (strcmp(field, "friction.fc_n") == 0) {
+        return "Fc = mu_d N: in [1e-6, 1e4] N, <= Fs";
+    }
+    return field;
+}
+
 ss_proto_error_t ss_node_core_set_param(ss_node_core_t *c, uint32_t id, float v, ss_node_refusal_t *why)
 {
     if (id >= SS_NODE_N_PARAMS) {
@@ -150,7 +163,7 @@ ss_proto_error_t ss_node_core_set_param(ss_node_core_t *c, uint32_t id, float v,
         return refuse(why, SS_PERR_NON_FINITE, PARAMS[id].name, "not a finite number");
     }
     if (v < PARAMS[id].min || v > PARAMS[id].max || (id == SS_NODE_P_MODEL && v != 0.0f && v != 1.0f)) {
-        return refuse(why, SS_PERR_OUT_OF_RANGE, PARAMS[id].name, "outside its range");
+        return refuse(why, SS_PERR_OUT_OF_RANGE, PARAMS[id].name, "outside its range (PARAM_INFO)");
     }
     ss_node_params_t next = c->params;
     next.value[id] = v;
@@ -159,7 +172,7 @@ ss_proto_error_t ss_node_core_set_param(ss_node_core_t *c, uint32_t id, float v,
     const char *field = "";
     const ss_status_t st = ss_node_model_config(&f, &cfg, &field);
     if (st != SS_OK) {
-        return refuse(why, from_status(st), PARAMS[id].name, field);
+        return refuse(why, from_status(st), PARAMS[id].name, combined_reason(field));
     }
     c->params = next;
     c->cfg = cfg;

@@ -520,7 +520,7 @@ static void test_can_refusal_sends_its_reason(void **unused)
     }
     assert_true(can_out_n >= 2u);
     assert_int_equal(can_out[can_out_n - 1u].id, SS_CAN_ID_REPLY);
-    assert_string_equal(text, "mu_d: friction.fc_n");
+    assert_string_equal(text, "mu_d: Fc = mu_d N: in [1e-6, 1e4] N, <= Fs");
     /* an accepted command sends no reason */
     assert_int_equal(can_cmd(SS_CAN_CMD_SET_PARAM, 2, 6, 0, 0.3f).status, 0);
     assert_int_equal(can_out_n, 1);

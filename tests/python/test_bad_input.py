@@ -6,6 +6,7 @@ is reported as written when it was not."""
 from __future__ import annotations
 
 import io
+import math
 import struct
 import subprocess
 from pathlib import Path
@@ -448,3 +449,265 @@ def test_a_node_that_closes_the_link_is_heard_verbatim():
     said = P.frame(P.ERROR, 0, bytes([9, 8, 0]) + b"another client is connected")
     with pytest.raises(LinkClosedError, match="the node said: another client is connected"):
         _frames_after(lambda c: c.get(0), said, closes=True)
+
+
+# ------------------------------------------------------------------ refused by name before issue 15
+# The rows below passed when the issue was filed; they are here so that none regresses.
+
+
+def _node_frame_cases():
+    from stickslip.hil import protocol as P
+
+    def raw_packet(body: bytes) -> bytes:  # a COBS packet with whatever header and CRC it has
+        return P.cobs_encode(body) + b"\x00"
+
+    header = struct.pack("<BBH", P.GET_PARAM, 0, 5)
+    f = struct.pack
+    return [
+        # (what, wire bytes, error name, words of the node's reason)
+        ("bad CRC", P.frame(P.GET_PARAM, 0, b"\x00")[:-3] + b"\x01\x01\x00", "bad_crc", "bad_crc"),
+        ("invalid COBS", b"\x05\x01\x00", "bad_framing", "bad_framing"),
+        ("packet shorter than its header", raw_packet(b"\x03\x01"), "bad_length", "bad_length"),
+        (
+            "length field against the packet",
+            raw_packet(header + b"\x00" + f("<H", P.crc16(header + b"\x00"))),
+            "bad_length",
+            "bad_length",
+        ),
+        ("unknown type", P.frame(0x42, 0, b""), "unknown_type", "unknown request type"),
+        ("TELEMETRY sent to the node", P.frame(P.TELEMETRY, 0, b""), "unknown_type", "unknown"),
+        ("frame past the size limit", b"\x01" * 1100 + b"\x00", "oversize", "oversize"),
+        ("GET_PARAM without an id", P.frame(P.GET_PARAM, 0, b""), "bad_payload", "an id or 0xFF"),
+        ("GET_PARAM id 99", P.frame(P.GET_PARAM, 0, b"\x63"), "unknown_param", "with that id"),
+        ("GET_PARAM unknown name", P.frame(P.GET_PARAM, 0, b"\xffbogus"), "unknown_param", "name"),
+        ("SET_PARAM cut short", P.frame(P.SET_PARAM, 0, b"\x00\x00"), "bad_payload", "id + f32"),
+        (
+            "SET_PARAM NaN",
+            P.frame(P.SET_PARAM, 0, b"\x00" + f("<f", math.nan)),
+            "non_finite",
+            "piezo_stiffness_n_per_m: not a finite number",
+        ),
+        (
+            "SET_PARAM negative mass",
+            P.frame(P.SET_PARAM, 0, b"\x02" + f("<f", -1.0)),
+            "out_of_range",
+            "rod_mass_kg: outside its range",
+        ),
+        (
+            "SET_PARAM mu_d above mu_s",
+            P.frame(P.SET_PARAM, 0, b"\x06" + f("<f", 0.9)),
+            "out_of_range",
+            "mu_d: Fc = mu_d N: in [1e-6, 1e4] N, <= Fs",
+        ),
+        (
+            "SET_PARAM friction_model 2.5",
+            P.frame(P.SET_PARAM, 0, b"\x0c" + f("<f", 2.5)),
+            "out_of_range",
+            "friction_model",
+        ),
+        ("RESET cut short", P.frame(P.RESET, 0, b"\x00"), "bad_payload", "f32 drive0_v"),
+        ("RESET inf", P.frame(P.RESET, 0, f("<f", math.inf)), "non_finite", "drive0_v"),
+        ("RESET 1e6 V", P.frame(P.RESET, 0, f("<f", 1e6)), "out_of_range", "[-1e5, 1e5] V"),
+        ("LOAD_WAVEFORM short", P.frame(P.LOAD_WAVEFORM, 0, bytes(10)), "bad_payload", "21 bytes"),
+        ("DRIVE_BLOCK empty", P.frame(P.DRIVE_BLOCK, 0, b""), "bad_payload", "u16 + 1..255 f32"),
+        (
+            "DRIVE_BLOCK decimation 0",
+            P.frame(P.DRIVE_BLOCK, 0, f("<Hf", 0, 1.0)),
+            "out_of_range",
+            "decimation: must be >= 1",
+        ),
+        (
+            "DRIVE_BLOCK ragged samples",
+            P.frame(P.DRIVE_BLOCK, 0, f("<H", 1) + b"\x00\x00\x00"),
+            "bad_payload",
+            "u16 + 1..255 f32",
+        ),
+        (
+            "DRIVE_BLOCK NaN sample",
+            P.frame(P.DRIVE_BLOCK, 0, f("<Hf", 1, math.nan)),
+            "non_finite",
+            "drive sample",
+        ),
+        (
+            "DRIVE_BLOCK 1e38 V",
+            P.frame(P.DRIVE_BLOCK, 0, f("<Hf", 1, 1e38)),
+            "out_of_range",
+            "drive sample: outside [-1e5, 1e5] V",
+        ),
+        ("RUN before LOAD_WAVEFORM", P.frame(P.RUN, 0, f("<IHB", 10, 1, 0)), "no_waveform", "RUN"),
+        ("RUN cut short", P.frame(P.RUN, 0, b"\x00"), "bad_payload", "u32 + u16 + u8"),
+    ]
+
+
+NODE_FRAME_CASES = list(range(26))
+
+
+@pytest.mark.skipif(
+    not (ROOT / "build" / "host" / "host_sim" / "stickslip_node").exists(),
+    reason="host build missing (cmake --preset host)",
+)
+def test_the_node_names_every_bad_frame_and_serves_on():
+    import time
+
+    from stickslip.hil import protocol as P
+    from stickslip.hil.client import HostNode, NodeClient
+
+    cases = _node_frame_cases()
+    assert len(cases) == len(NODE_FRAME_CASES)
+    with HostNode("tcp") as node, NodeClient(node.url) as c:
+        for seq, (what, wire, name, words) in enumerate(cases, start=10):
+            if wire.endswith(b"\x00") and what not in ("invalid COBS", "frame past the size limit"):
+                # give each well-formed request its own seq (a repeated one is a duplicate)
+                for pkt in P.FrameReader().feed(wire):
+                    if isinstance(pkt, P.Packet):
+                        wire = P.frame(pkt.type, seq, pkt.payload)
+            c.send_raw(wire)
+            deadline = time.monotonic() + 2.0
+            while not c._inbox and c._pump(deadline):
+                pass
+            assert c._inbox, what
+            pkt = c._inbox.popleft()
+            assert pkt.type == P.ERROR, what
+            assert P.ERROR_NAMES[pkt.payload[1]] == name, (what, pkt.payload)
+            assert words in pkt.payload[3:].decode(), (what, pkt.payload[3:])
+        c.seq = 200
+        assert c.get("mu_s") == pytest.approx(0.36)  # nothing changed, the node serves on
+
+
+def _dataset_cases():
+    """(what, change to the run file's lines or to the metadata, words of the message)."""
+
+    def cell(row: int, col: int, text: str):  # lines[row] with its col-th cell replaced
+        def change(lines: list[str]) -> None:
+            cells = lines[row].split(",")
+            cells[col] = text
+            lines[row] = ",".join(cells)
+
+        return ("csv", change, None)
+
+    def lines(change):
+        return ("csv", change, None)
+
+    def meta(change):
+        return ("json", change, None)
+
+    return [
+        ("empty run file", lines(lambda ls: ls.clear()), "empty file, expected a header row"),
+        ("header only", lines(lambda ls: ls.__delitem__(slice(1, None))), "at least 2 data rows"),
+        ("required column missing", cell(0, 2, "pos"), "column 'x_m'"),
+        ("duplicate column", lines(lambda ls: ls.__setitem__(0, ls[0] + ",x_m")), "duplicate"),
+        ("a cell is text", cell(3, 1, "volts"), "not a number: 'volts'"),
+        ("a cell is inf", cell(3, 2, "inf"), "not a finite number"),
+        ("a short row", lines(lambda ls: ls.__setitem__(3, "1e-05,0")), "2 cells, header has 3"),
+        ("a blank row", lines(lambda ls: ls.insert(3, "")), "empty row"),
+        ("time going back", cell(3, 0, "-1"), "time not ascending"),
+        ("uneven sampling", cell(3, 0, "2.1e-05"), "not uniformly sampled"),
+        ("not UTF-8", ("bytes", b"\xff\xfe\x00t_s", None), "unreadable"),
+        ("metadata not JSON", meta("{not json"), "invalid JSON"),
+        ("metadata a list", meta([]), "top level must be an object"),
+        ("unknown format", meta(lambda m: m.update(format="other/2")), "format must be"),
+        ("actuator key missing", meta(lambda m: m["actuator"].pop("mu_s")), "missing keys"),
+        ("actuator key unknown", meta(lambda m: m["actuator"].update(colour=1)), "unknown keys"),
+        ("actuator value text", meta(lambda m: m["actuator"].update(mu_s="x")), "mu_s"),
+        ("no runs", meta(lambda m: m.update(runs=[])), "runs must be a non-empty list"),
+        ("run without file", meta(lambda m: m["runs"][0].pop("file")), "needs string 'id'"),
+        ("duplicate run id", meta(lambda m: m["runs"].append(dict(m["runs"][0]))), "duplicate"),
+        ("file outside", meta(lambda m: m["runs"][0].update(file="../x.csv")), "outside"),
+        ("file missing", meta(lambda m: m["runs"][0].update(file="gone.csv")), "cannot open"),
+        ("sensor not an object", meta(lambda m: m.update(sensor=3)), "sensor must be an object"),
+        ("sensor noise < 0", meta(lambda m: m.update(sensor={"noise_rms_m": -1})), "noise_rms_m"),
+        (
+            "waveform shape",
+            meta(lambda m: m["runs"][0]["waveform"].update(shape="sine")),
+            "only 'sawtooth'",
+        ),
+        (
+            "waveform key missing",
+            meta(lambda m: m["runs"][0]["waveform"].pop("cycles")),
+            "missing key 'cycles'",
+        ),
+        (
+            "waveform direction 2",
+            meta(lambda m: m["runs"][0]["waveform"].update(direction=2)),
+            "direction: must be 1 or -1",
+        ),
+        (
+            "waveform cycles 1.5",
+            meta(lambda m: m["runs"][0]["waveform"].update(cycles=1.5)),
+            "cycles: must be a whole number",
+        ),
+        (
+            "waveform frequency NaN",
+            meta(lambda m: m["runs"][0]["waveform"].update(frequency_hz="NaN")),
+            "frequency_hz: expected a finite number",
+        ),
+    ]
+
+
+DATASET_CASES = list(range(29))
+
+
+@pytest.mark.parametrize("case", DATASET_CASES)
+def test_diagnose_names_what_is_wrong_with_a_dataset(tmp_path, capsys, case):
+    import json
+
+    from stickslip import dataset as D
+    from stickslip.cli import main
+    from stickslip.model import ActuatorParams, Sawtooth, simulate
+
+    cases = _dataset_cases()
+    assert len(cases) == len(DATASET_CASES)
+    what, (kind, a, b), words = cases[case]
+    w = Sawtooth(cycles=1)
+    r = simulate(w, decimation=10)
+    run = D.Run("r", tmp_path / "r.csv", r.t_s, r.drive_v, r.x_slider_m, w, {})
+    root = D.write(tmp_path / "ds", ActuatorParams.table1(), [run])
+    if kind in ("csv", "bytes"):
+        p = root / "r.csv"
+        if kind == "bytes":
+            p.write_bytes(a)
+        else:
+            rows = p.read_text().splitlines()
+            a(rows)
+            p.write_text("\n".join(rows) + ("\n" if rows else ""))
+    else:
+        p = root / "dataset.json"
+        if callable(a):
+            m = json.loads(p.read_text())
+            a(m)
+            p.write_text(json.dumps(m))
+        else:
+            p.write_text(a if isinstance(a, str) else json.dumps(a))
+    assert main(["diagnose", str(root), "--quiet", "--out", str(tmp_path / "report.md")]) == 2
+    err = capsys.readouterr().err
+    assert words in err, (what, err)
+    assert p.name in err or "gone.csv" in err or "x.csv" in err, (what, err)  # the file named
+    assert not (tmp_path / "report.md").exists()
+
+
+CLI_ARGUMENT_CASES = [
+    (["simulate", "--frequency-hz", "abc"], "--frequency-hz"),
+    (["simulate", "--cycles", "x"], "--cycles"),
+    (["simulate", "--model", "dahl"], "--model"),
+    (["simulate", "--direction", "0"], "--direction"),
+    (["simulate", "--bogus"], "unrecognized arguments: --bogus"),
+    (["diagnose"], "the following arguments are required: dataset"),
+    (["diagnose", "x", "--workers", "many"], "--workers"),
+    (["hil", "run", "--link", "wifi"], "--link"),
+    (["hil", "run", "--mode", "teleport"], "--mode"),
+    (["hil", "run", "--cycles", "-"], "--cycles"),
+    (["hil", "position", "--target-m", "far"], "--target-m"),
+    (["figures", "--only", "fig99"], "fig99"),
+    (["nonsense"], "invalid choice: 'nonsense'"),
+]
+
+
+@pytest.mark.parametrize(("args", "words"), CLI_ARGUMENT_CASES, ids=lambda x: str(x))
+def test_a_bad_argument_is_named_by_the_parser(capsys, args, words):
+    from stickslip.cli import main
+
+    with pytest.raises(SystemExit) as e:
+        main(args)
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert words in err, err

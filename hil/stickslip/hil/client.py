@@ -223,9 +223,16 @@ class NodeClient:
             payload = bytes([param]) + struct.pack("<f", value)
         else:
             payload = b"\xff" + struct.pack("<f", value) + param.encode()
-        return struct.unpack_from(
-            "<Bf", checked("SET_PARAM", self.request(P.SET_PARAM, payload), 5)
-        )[1]
+        try:
+            reply = self.request(P.SET_PARAM, payload)
+        except NodeError as e:
+            if "outside its range" not in e.reason:
+                raise
+            # the node's table has the range (PARAM_INFO); the firmware formats no floats
+            p = self.param_info(param if isinstance(param, int) else P.PARAM_NAMES.index(param))
+            words = f"{e.reason}: [{p.min:g}, {p.max:g}] (sent {value!r})"
+            raise NodeError(e.code, e.request_type, words) from None
+        return struct.unpack_from("<Bf", checked("SET_PARAM", reply, 5))[1]
 
     def reset(self, drive0_v: float = 0.0) -> None:
         self.request(P.RESET, struct.pack("<f", drive0_v))
