@@ -711,3 +711,37 @@ def test_a_bad_argument_is_named_by_the_parser(capsys, args, words):
     assert e.value.code == 2
     err = capsys.readouterr().err
     assert words in err, err
+
+
+def test_the_can_decoder_names_a_step_count_that_is_not_one():
+    # found by bench/fuzz_python.py can_decoder: ValueError from int(nan) before
+    import can
+
+    from stickslip.hil import protocol as P
+    from stickslip.hil.can_client import CMD, CanNodeClient, load_dbc
+    from stickslip.hil.node import BadReplyError, LinkStats, NodeInfo
+
+    db = load_dbc()
+    reply = db.get_message_by_name("SS_REPLY")
+
+    class Bus:
+        frames = [
+            can.Message(
+                arbitration_id=reply.frame_id,
+                data=reply.encode(
+                    {"cmd": CMD["RUN"], "seq": 0, "status": 0, "index": 1, "value": math.nan}
+                ),
+            )
+        ]
+
+        def send(self, msg):
+            pass
+
+        def recv(self, timeout=None):
+            return self.frames.pop(0) if self.frames else None
+
+    c = CanNodeClient.__new__(CanNodeClient)
+    c.url, c.bus, c.db, c.timeout_s, c.seq, c.drive_seq = "test", Bus(), db, 0.05, 0, 0
+    c.stats, c.info = LinkStats(), NodeInfo(P.VERSION, "ls", "f32", 13, 1e-6, "test")
+    with pytest.raises(BadReplyError, match="RUN.*steps done nan, not a whole number"):
+        c.run(5)

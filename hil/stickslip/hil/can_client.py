@@ -268,12 +268,20 @@ class CanNodeClient:
             states=rows,
             progress=progress,
         )
-        if int(r["value"]) != steps:
-            raise HilError(f"run ended after {int(r['value'])} of {steps} steps (stopped)")
+        done = _steps_done("RUN", r["value"])
+        if done != steps:
+            raise HilError(f"run ended after {done} of {steps} steps (stopped)")
         return Telemetry.from_rows(rows)
 
     def stop(self) -> int:
-        return int(self.request("STOP")["value"])
+        return _steps_done("STOP", self.request("STOP")["value"])
+
+
+def _steps_done(what: str, value: float) -> int:
+    """A reply's step count (a float32 on CAN): a whole number >= 0, or BadReplyError."""
+    if not (math.isfinite(value) and value >= 0 and value == int(value)):
+        raise BadReplyError(what, f"steps done {value!r}, not a whole number")
+    return int(value)
 
 
 def _row(s: dict) -> tuple:
