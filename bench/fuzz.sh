@@ -8,6 +8,7 @@
 #                  for the float32 node and the fixed-point one.
 #   bash bench/fuzz.sh [SECONDS] [TARGET...]   (default 60 s, every target; needs clang-14 and
 #                                               libclang-rt-14-dev)
+#   FUZZ_RUNS=10000000 bash bench/fuzz.sh 7200 parsers   (stop after that many executions)
 # Corpora persist in build/fuzz/<target>/corpus; a run fails when any target leaves an artifact.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,6 +17,11 @@ shift || true
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(parsers node_core_f32 node_core_q)
 CC=${CC:-clang-14}
+rt=$($CC -print-resource-dir 2>/dev/null)/lib/linux/libclang_rt.fuzzer-x86_64.a
+if ! command -v "$CC" >/dev/null || [ ! -f "$rt" ]; then
+  echo "fuzz: needs $CC and libFuzzer: apt-get install clang-14 libclang-rt-14-dev" >&2
+  exit 2
+fi
 flags=(-std=c99 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -D_DEFAULT_SOURCE
        -Ilib/include -Iproto/include -Iapp)
 status=0
@@ -44,13 +50,14 @@ for t in "${targets[@]}"; do
       ;;
     *) echo "fuzz: unknown target '$t' (parsers, node_core_f32, node_core_q)" >&2; exit 2 ;;
   esac
-  "$out/fuzz" -max_total_time="$secs" -print_final_stats=1 -artifact_prefix="$out/crashes/" "$out/corpus" \
+  "$out/fuzz" -max_total_time="$secs" ${FUZZ_RUNS:+-runs=$FUZZ_RUNS} -print_final_stats=1 -artifact_prefix="$out/crashes/" "$out/corpus" \
     > "$out/fuzz.log" 2>&1 || true
   grep -E "ERROR|SUMMARY|runtime error" "$out/fuzz.log" | head -5 || true
   crashes=$(find "$out/crashes" -type f | wc -l)
   execs=$(grep -oE "stat::number_of_executed_units: [0-9]+" "$out/fuzz.log" | grep -oE "[0-9]+$" || echo 0)
   line=$(grep -E "^#[0-9]+[[:space:]]+DONE" "$out/fuzz.log" | tail -1 || true)
-  echo "fuzz $t: $execs executions in $secs s, $crashes findings (artifacts in $out/crashes); ${line#*DONE }"
+  took=$(grep -oE "Done [0-9]+ runs in [0-9]+ second" "$out/fuzz.log" | grep -oE "[0-9]+ second" || echo "$secs s")
+  echo "fuzz $t: $execs executions in ${took% second} s, $crashes findings (artifacts in $out/crashes); ${line#*DONE }"
   [ "$crashes" -eq 0 ] || status=1
 done
 exit $status

@@ -411,13 +411,19 @@ def trace_for(columns: dict[str, np.ndarray], capacity: int) -> ActuatorTrace:
     return tr
 
 
-def to_q(cfg: ActuatorConfig, wave: WaveformConfig) -> tuple[ActuatorConfigQ, WaveformConfigQ]:
-    """The fixed-point configs for float ones, by the library's converter; NativeError names the
-    field that does not fit its Q format (or an effect the q family does not model)."""
-    cq, wq, bad = ActuatorConfigQ(), WaveformConfigQ(), C.c_char_p()
+def config_to_q(cfg: ActuatorConfig) -> ActuatorConfigQ:
+    """The fixed-point actuator config for a float one, by the library's converter; NativeError
+    names the field that does not fit its Q format (or an effect the q family does not model)."""
+    cq, bad = ActuatorConfigQ(), C.c_char_p()
     status = lib.ss_actuator_config_to_q(C.byref(cfg), C.byref(cq), C.byref(bad))
     if status != SS_OK:
         raise NativeError(status, f"q variant: parameter {(bad.value or b'?').decode()}")
+    return cq
+
+
+def to_q(cfg: ActuatorConfig, wave: WaveformConfig) -> tuple[ActuatorConfigQ, WaveformConfigQ]:
+    """The fixed-point configs for float ones (config_to_q, and the waveform's)."""
+    cq, wq, bad = config_to_q(cfg), WaveformConfigQ(), C.c_char_p()
     status = lib.ss_waveform_config_to_q(C.byref(wave), C.byref(wq), C.byref(bad))
     if status != SS_OK:
         raise NativeError(status, f"q variant: waveform {(bad.value or b'?').decode()}")

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .model import DT_S, MODELS, VARIANTS, Sawtooth, simulate
+from .model import DT_S, MODELS, VARIANTS, Effects, Sawtooth, simulate
 from .progress import Progress
 
 if TYPE_CHECKING:
@@ -414,12 +414,18 @@ def cmd_diagnose(a: argparse.Namespace) -> int:
     _check_writable(a.out, "--out", folder=True)
     if a.json and a.json != "-":
         _check_writable(a.json, "--json", folder=False)
+    if a.export:
+        _check_writable(a.export, "--export", folder=True)
     # a live status line: what the pipeline is doing now, and for how long
     with Progress("diagnosing", total=None, quiet=a.quiet) as bar:
         with ThreadPoolExecutor(max_workers=a.workers) as ex:
             d = diagnose(a.dataset, executor=ex, progress=bar.status)
         bar.status("writing the report")
         report = write_report(d, a.out)
+    if a.export:
+        from .model_file import export
+
+        exported = export(d.model_file(), a.export)
     for w in d.warnings:  # also in the report; here even under --quiet
         print(f"stickslip diagnose: warning: {w}", file=sys.stderr)
     j = d.to_json()
@@ -432,7 +438,57 @@ def cmd_diagnose(a: argparse.Namespace) -> int:
         j,
         f"causes: {verdict}; validation RMSE nominal {rmse['nominal']:.1f} nm,"
         f" calibrated {rmse['baseline']:.1f} nm, extended {rmse['extended']:.1f} nm"
-        f" (noise {d.noise_m * 1e9:.1f} nm); gain {j['gain']:.3f}\nreport: {report}",
+        f" (noise {d.noise_m * 1e9:.1f} nm); gain {j['gain']:.3f}\nreport: {report}"
+        + (f"\nmodel: {exported[0]} and {exported[1]}" if a.export else ""),
+    )
+    return 0
+
+
+def cmd_model_export(a: argparse.Namespace) -> int:
+    from .model import ActuatorParams
+    from .model_file import ModelFile, ModelFileError, export
+    from .model_file import load as load_model
+
+    if a.model:
+        m = load_model(a.model)
+    elif a.dataset:
+        from . import dataset as D
+
+        ds = D.load(a.dataset)
+        m = ModelFile(ds.actuator, source={"dataset": str(a.dataset), "nominal": True})
+    else:
+        m = ModelFile(ActuatorParams.table1(), source={"nominal": "Table I"})
+    changes = {"law": a.law} if a.law else {}
+    for item in a.set or []:
+        name, sep, text = item.partition("=")
+        if not sep:
+            raise CliError(f"--set: expected NAME=VALUE, got {item!r}")
+        try:
+            value = float(text)
+        except ValueError:
+            raise CliError(f"--set {name}: expected a number, got {text!r}") from None
+        group = "effects" if name in Effects.__dataclass_fields__ else "actuator"
+        changes.setdefault(group, {})[name] = value
+    d = m.to_dict()
+    d["law"] = changes.get("law", d["law"])
+    d["actuator"].update(changes.get("actuator", {}))
+    d["effects"].update(changes.get("effects", {}))
+    try:
+        m = ModelFile.from_dict(d, "--set")
+    except ModelFileError as e:
+        raise CliError(e.problem) from None
+    _check_writable(a.out, "--out", folder=True)
+    j, h = export(m, a.out)
+    _report(a, m.to_dict(), f"model ({m.law}, {len(m.effects.active())} effects): {j} and {h}")
+    return 0
+
+
+def cmd_model_check(a: argparse.Namespace) -> int:
+    from .model_file import load as load_model
+
+    m = load_model(a.file)
+    _report(
+        a, m.to_dict(), f"{a.file}: a valid {m.law} model, effects {m.effects.active() or 'none'}"
     )
     return 0
 
@@ -501,8 +557,41 @@ def build_parser() -> argparse.ArgumentParser:
         help="fits run at once, in threads (the C model releases the GIL; each fit also spreads"
         " its runs over the cores) (default: the CPU count, at most 8)",
     )
+    dg.add_argument(
+        "--export",
+        metavar="DIR",
+        help="also write the identified model there: model.json (stick-slip-model/1) and "
+        "stickslip_model.h (C initialisers for firmware)",
+    )
     _add_quiet_option(dg)
     dg.set_defaults(func=cmd_diagnose)
+
+    mo = sub.add_parser(
+        "model",
+        help="model files (stick-slip-model/1): export any parameter set, check a file",
+        description="Write or check stick-slip-model/1 files (docs/model-file.md).",
+    )
+    ms = mo.add_subparsers(dest="model_command", required=True)
+    me = ms.add_parser("export", help="write model.json and stickslip_model.h")
+    me.add_argument("--out", required=True, metavar="DIR", help="folder for the two files")
+    src = me.add_mutually_exclusive_group()
+    src.add_argument("--model", metavar="FILE", help="start from this model file")
+    src.add_argument("--dataset", metavar="DIR", help="start from a dataset's nominal parameters")
+    me.add_argument("--law", choices=("ls", "lugre", "gms"), help="friction law")
+    me.add_argument(
+        "--set",
+        action="append",
+        metavar="NAME=VALUE",
+        help="a parameter or effect (stick-slip-dataset/1 and docs/effects.md names); repeatable",
+    )
+    _add_json_option(me, "the model (stick-slip-model/1)")
+    _add_quiet_option(me)
+    me.set_defaults(func=cmd_model_export)
+    mc = ms.add_parser("check", help="validate a model file, naming the field at fault")
+    mc.add_argument("file")
+    _add_json_option(mc, "the model (stick-slip-model/1)")
+    _add_quiet_option(mc)
+    mc.set_defaults(func=cmd_model_check)
 
     h = sub.add_parser(
         "hil",

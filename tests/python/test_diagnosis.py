@@ -205,6 +205,8 @@ def test_cli_writes_report_and_json(tmp_path):
             str(js),
             "--workers",
             "2",
+            "--export",
+            str(tmp_path / "model"),
         ],
         capture_output=True,
         text=True,
@@ -212,6 +214,13 @@ def test_cli_writes_report_and_json(tmp_path):
     )
     assert p.returncode == 0, p.stderr
     assert "piezo_creep" in p.stdout and "report:" in p.stdout
+    # the identified model, exported: the law and the creep the diagnosis reports
+    from stickslip.model_file import load as load_model
+
+    m = load_model(tmp_path / "model" / "model.json")
+    assert m.causes == ("piezo_creep",) and m.law == "ls"
+    assert m.effects.creep_ratio == pytest.approx(truth.effects.creep_ratio, rel=0.1)
+    assert "SS_MODEL_CONFIG_F32" in (tmp_path / "model" / "stickslip_model.h").read_text()
     assert "candidate" not in p.stderr  # progress is drawn on a terminal only
     j = json.loads(js.read_text())
     assert j["causes"] == ["piezo_creep"] and not j["unexplained"]

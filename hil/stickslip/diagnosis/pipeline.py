@@ -15,7 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from .. import dataset as D
-from ..model import ActuatorParams
+from ..model import DT_S, ActuatorParams, major_loop_gain
+from ..model_file import ModelFile
 from .calibrate import calibrate
 from .catalog import BASE_LAW, CAUSE_FIXED, CAUSE_PARAMS, CAUSES, FRICTION_LAW, LAW_PARAMS, LAWS
 from .fit import (
@@ -166,6 +167,7 @@ class Diagnosis:
     residual: dict = field(default_factory=dict)
     timing_s: dict[str, float] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)  # the dataset's cross-checks' suspicions
+    stroke_v: float = 0.0  # the dataset's largest drive amplitude (the hysteresis gain convention)
 
     @property
     def gain(self) -> float:
@@ -188,6 +190,27 @@ class Diagnosis:
         for name in self.laws[c.law].held:
             out[_json_name(name, ())] = {"stderr": None, "identifiable": False}
         return out
+
+    def model_file(self) -> ModelFile:
+        """The chosen model as the C step runs it (stick-slip-model/1): the ideal strain's gain
+        after the hysteresis convention at this dataset's stroke, as the fits simulated it."""
+        m = self.chosen.fit.model
+        return ModelFile(
+            major_loop_gain(m.params, m.effects, self.stroke_v),
+            m.law,
+            m.effects,
+            DT_S,
+            tuple(m.causes),
+            {
+                "dataset": self.dataset,
+                "diagnosis": FORMAT,
+                "causes": self.causes,
+                "validation_rmse_m": self.chosen.val.rmse_m,
+                "validation_runs": self.val_ids,
+                "nominal_gain_m_per_v": m.params.piezo_gain_m_per_v,
+                "stroke_v": self.stroke_v,
+            },
+        )
 
     def to_json(self) -> dict:
         def block(c: Candidate | None, ev: Evaluation, with_params: bool = True) -> dict:
@@ -615,6 +638,7 @@ def diagnose(
         residual=residual_summary(runs, chosen.fit.model, noise_m),
         timing_s=timing,
         warnings=ds.warnings,
+        stroke_v=max((r.stroke_v for r in runs), default=0.0),
     )
 
 

@@ -1,0 +1,207 @@
+"""stick-slip-model/1: an identified (or any) actuator model as a file (docs/model-file.md).
+
+The JSON carries everything the C step needs (friction law, actuator and friction parameters,
+effects, step) and where it came from; the C header carries the same model as
+ss_actuator_config_f32_t (and, where the fixed-point family can run it, ss_actuator_config_q_t)
+initialisers for firmware to compile in. Loading validates every field and names the one at
+fault; the C library's own check has the last word."""
+
+from __future__ import annotations
+
+import ctypes as C
+import json
+import math
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+import numpy as np
+
+from . import _native as N
+from .model import DT_S, ActuatorParams, Effects
+
+FORMAT = "stick-slip-model/1"
+LAWS = ("ls", "lugre", "gms")
+Q_LAWS = ("ls", "lugre")  # the fixed-point family's (no GMS)
+
+
+class ModelFileError(ValueError):
+    """A model file that cannot be used: the file and the field at fault, and why."""
+
+    def __init__(self, path: str | Path, problem: str):
+        self.file, self.problem = str(path), problem
+        super().__init__(f"{path}: {problem}")
+
+
+@dataclass(frozen=True)
+class ModelFile:
+    """A model the C step runs as it is: the gain is the ideal strain's (after any hysteresis
+    convention, docs/diagnosis.md), the effects are absolute values."""
+
+    params: ActuatorParams
+    law: str = "ls"
+    effects: Effects = field(default_factory=Effects)
+    dt_s: float = DT_S
+    causes: tuple[str, ...] = ()  # the diagnosis' causes the effects stand for
+    source: dict = field(default_factory=dict)  # where it came from (free-form, kept as is)
+
+    def to_dict(self) -> dict:
+        return {
+            "format": FORMAT,
+            "law": self.law,
+            "dt_s": self.dt_s,
+            "actuator": self.params.to_dict(),
+            "effects": self.effects.active(),
+            "causes": list(self.causes),
+            "source": self.source,
+        }
+
+    @classmethod
+    def from_dict(cls, d: object, path: str | Path = "<model>") -> ModelFile:
+        def bad(what: str) -> ModelFileError:
+            return ModelFileError(path, what)
+
+        if not isinstance(d, dict):
+            raise bad("top level must be an object")
+        if d.get("format") != FORMAT:
+            raise bad(f"format: must be {FORMAT!r}, got {d.get('format')!r}")
+        unknown = sorted(
+            set(d) - {"format", "law", "dt_s", "actuator", "effects", "causes", "source"}
+        )
+        if unknown:
+            raise bad(f"unknown keys {unknown}")
+        law = d.get("law", "ls")
+        if law not in LAWS:
+            raise bad(f"law: must be one of {', '.join(LAWS)}, got {law!r}")
+        dt = _number(d.get("dt_s", DT_S), "dt_s", bad)
+        if not 1e-9 <= dt <= 1e-3:
+            raise bad(f"dt_s: must be in [1e-9, 1e-3] s, got {dt!r}")
+        if not isinstance(d.get("actuator"), dict):
+            raise bad("actuator: must be an object with every parameter of stick-slip-dataset/1")
+        try:
+            params = ActuatorParams.from_dict(d["actuator"], "actuator")
+        except ValueError as e:
+            raise bad(str(e)) from None
+        eff = d.get("effects", {})
+        if not isinstance(eff, dict):
+            raise bad("effects: must be an object (effect name: value)")
+        names = {f.name for f in fields(Effects)}
+        unknown = sorted(set(eff) - names)
+        if unknown:
+            raise bad(f"effects: unknown keys {unknown} (known: {', '.join(sorted(names))})")
+        effects = Effects(**{k: _number(v, f"effects.{k}", bad) for k, v in eff.items()})
+        causes = d.get("causes", [])
+        if not isinstance(causes, list) or not all(isinstance(c, str) for c in causes):
+            raise bad("causes: must be a list of cause names")
+        source = d.get("source", {})
+        if not isinstance(source, dict):
+            raise bad("source: must be an object")
+        m = cls(params, law, effects, dt, tuple(causes), source)
+        try:  # the library's check: ranges, and the rules between fields (Fc <= Fs, ...)
+            N.check_config(m.config())
+        except ValueError as e:
+            raise bad(f"the C library refuses the model: {e}") from None
+        return m
+
+    def config(self) -> N.ActuatorConfig:
+        return self.params.actuator_config(self.law, self.dt_s, self.effects)
+
+    def config_q(self) -> N.ActuatorConfigQ | None:
+        """The fixed-point config, or None when that family cannot run this model (GMS, or any
+        effect: the q family has none yet)."""
+        if self.law not in Q_LAWS or self.effects.active():
+            return None
+        return N.config_to_q(self.config())
+
+
+def _number(v: object, where: str, bad) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise bad(f"{where}: expected a finite number, got {v!r}")
+    return float(v)
+
+
+def load(path: str | Path) -> ModelFile:
+    p = Path(path)
+    try:
+        d = json.loads(p.read_text())
+    except OSError as e:
+        raise ModelFileError(p, f"cannot read: {e.strerror}") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
+        raise ModelFileError(p, f"invalid JSON: {e}") from None
+    return ModelFile.from_dict(d, p)
+
+
+def save(m: ModelFile, path: str | Path) -> Path:
+    p = Path(path)
+    p.write_text(json.dumps(m.to_dict(), indent=2, allow_nan=False) + "\n")
+    return p
+
+
+# ------------------------------------------------------------------ the C header
+
+
+def _c_value(v: object) -> str:
+    if isinstance(v, float):  # the float32 the struct holds, in the shortest digits that read back
+        text = str(np.float32(v))
+        return text + ("f" if any(c in text for c in ".e") else ".0f")
+    return str(int(v))  # type: ignore[call-overload]
+
+
+def _c_initializer(s: C.Structure, indent: str) -> str:
+    """A C99 designated initialiser of a ctypes mirror, field by field."""
+    lines = []
+    for name, *_ in s._fields_:
+        v = getattr(s, name)
+        if isinstance(v, C.Structure):
+            body = _c_initializer(v, indent + "    ")
+            lines.append(f"{indent}    .{name} = {{\n{body}\n{indent}    }},")
+        elif isinstance(v, C.Array):
+            items = ", ".join(_c_value(x) for x in v)
+            lines.append(f"{indent}    .{name} = {{{items}}},")
+        else:
+            lines.append(f"{indent}    .{name} = {_c_value(v)},")
+    return "\n".join(lines)
+
+
+def c_header(m: ModelFile, guard: str = "SS_MODEL_H") -> str:
+    """A header defining SS_MODEL_CONFIG_F32 (and SS_MODEL_CONFIG_Q where that family can run the
+    model) as initialisers: `ss_actuator_config_f32_t cfg = SS_MODEL_CONFIG_F32;`."""
+    src = json.dumps(m.source, sort_keys=True) if m.source else "{}"
+    out = [
+        f"/* stickslip model ({FORMAT}), from `stickslip model export` or `diagnose --export`.",
+        f" * law {m.law}, dt {m.dt_s!r} s, causes: {', '.join(m.causes) or 'none'}",
+        f" * source: {src.replace('*/', '* /')}",
+        " * Generated: edit the JSON beside it and export again. */",
+        f"#ifndef {guard}",
+        f"#define {guard}",
+        "",
+        '#include "ss_actuator.h"',
+        "",
+        "/* ss_actuator_config_f32_t */",
+        "#define SS_MODEL_CONFIG_F32 \\",
+    ]
+    body = "{\n" + _c_initializer(m.config(), "") + "\n}"
+    out += [line + " \\" for line in body.splitlines()[:-1]] + [body.splitlines()[-1]]
+    q = m.config_q()
+    out.append("")
+    if q is None:
+        why = "GMS friction" if m.law not in Q_LAWS else f"effects {sorted(m.effects.active())}"
+        out.append(
+            f"/* No SS_MODEL_CONFIG_Q: the fixed-point family cannot run this model ({why}). */"
+        )
+    else:
+        out += ['#include "ss_actuator_q.h"', "", "/* ss_actuator_config_q_t */"]
+        out.append("#define SS_MODEL_CONFIG_Q \\")
+        body = "{\n" + _c_initializer(q, "") + "\n}"
+        out += [line + " \\" for line in body.splitlines()[:-1]] + [body.splitlines()[-1]]
+    out += ["", f"#endif /* {guard} */", ""]
+    return "\n".join(out)
+
+
+def export(m: ModelFile, out_dir: str | Path) -> tuple[Path, Path]:
+    """Write model.json and stickslip_model.h into out_dir (created)."""
+    d = Path(out_dir)
+    d.mkdir(parents=True, exist_ok=True)
+    j = save(m, d / "model.json")
+    h = d / "stickslip_model.h"
+    h.write_text(c_header(m))
+    return j, h
