@@ -34,6 +34,21 @@ static ss_actuator_config_f32_t config_from(const ss_node_params_t *p)
     c.friction =
         ss_friction_config_from_mu_f32(v[SS_NODE_P_MUS], v[SS_NODE_P_MUD], v[SS_NODE_P_N], v[SS_NODE_P_VS],
                                        v[SS_NODE_P_S0], v[SS_NODE_P_S1], v[SS_NODE_P_S2]);
+    c.friction.asymmetry = v[SS_NODE_P_ASYM];
+    ss_effects_config_f32_t *e = &c.effects;
+    e->hysteresis_alpha = v[SS_NODE_P_HALPHA];
+    e->hysteresis_width_m = v[SS_NODE_P_HWIDTH];
+    e->creep_ratio = v[SS_NODE_P_CRATIO];
+    e->creep_tau_s = v[SS_NODE_P_CTAU];
+    e->load_n = v[SS_NODE_P_LOAD];
+    e->friction_gradient_per_m = v[SS_NODE_P_GRAD];
+    e->slew_v_per_s = v[SS_NODE_P_SLEW];
+    e->thermal_coeff_per_j = v[SS_NODE_P_TCOEF];
+    e->thermal_tau_s = v[SS_NODE_P_TTAU];
+    e->base_mass_kg = v[SS_NODE_P_BMASS];
+    e->base_freq_hz = v[SS_NODE_P_BFREQ];
+    e->base_damping_ratio = v[SS_NODE_P_BDAMP];
+    e->sensor_scale_error = v[SS_NODE_P_SSCALE];
     return c;
 }
 
@@ -154,7 +169,8 @@ static const char *combined_reason(const char *field)
     return field;
 }
 
-ss_proto_error_t ss_node_core_set_param(ss_node_core_t *c, uint32_t id, float v, ss_node_refusal_t *why)
+/* One value against its row of the table (the library judges the whole set afterwards). */
+static ss_proto_error_t check_param(uint32_t id, float v, ss_node_refusal_t *why)
 {
     if (id >= SS_NODE_N_PARAMS) {
         return refuse(why, SS_PERR_UNKNOWN_PARAM, "no parameter with that id", "");
@@ -165,19 +181,53 @@ ss_proto_error_t ss_node_core_set_param(ss_node_core_t *c, uint32_t id, float v,
     if (v < PARAMS[id].min || v > PARAMS[id].max || (id == SS_NODE_P_MODEL && v != 0.0f && v != 1.0f)) {
         return refuse(why, SS_PERR_OUT_OF_RANGE, PARAMS[id].name, "outside its range (PARAM_INFO)");
     }
-    ss_node_params_t next = c->params;
-    next.value[id] = v;
-    const ss_actuator_config_f32_t f = config_from(&next);
+    return SS_PERR_NONE;
+}
+
+/* The library's check of a whole parameter set; on success it is in force, the model at rest. */
+static ss_proto_error_t apply_params(ss_node_core_t *c, const ss_node_params_t *next, const char *what,
+                                     ss_node_refusal_t *why)
+{
+    const ss_actuator_config_f32_t f = config_from(next);
     ss_node_config_t cfg;
     const char *field = "";
     const ss_status_t st = ss_node_model_config(&f, &cfg, &field);
     if (st != SS_OK) {
-        return refuse(why, from_status(st), PARAMS[id].name, combined_reason(field));
+        return refuse(why, from_status(st), what, combined_reason(field));
     }
-    c->params = next;
+    c->params = *next;
     c->cfg = cfg;
     rest_at_wave_start(c); /* a new parameter set starts a new experiment */
     return SS_PERR_NONE;
+}
+
+ss_proto_error_t ss_node_core_set_param(ss_node_core_t *c, uint32_t id, float v, ss_node_refusal_t *why)
+{
+    const ss_proto_error_t e = check_param(id, v, why);
+    if (e != SS_PERR_NONE) {
+        return e;
+    }
+    ss_node_params_t next = c->params;
+    next.value[id] = v;
+    return apply_params(c, &next, PARAMS[id].name, why);
+}
+
+ss_proto_error_t ss_node_core_set_params(ss_node_core_t *c, const uint8_t *ids, const float *values,
+                                         uint32_t n, ss_node_refusal_t *why)
+{
+    if (n == 0u) {
+        return refuse(why, SS_PERR_BAD_PAYLOAD, "SET_MODEL takes 1 or more id + f32 pairs", "");
+    }
+    ss_node_params_t next = c->params;
+    for (uint32_t i = 0; i < n; ++i) {
+        const ss_proto_error_t e = check_param(ids[i], values[i], why);
+        if (e != SS_PERR_NONE) {
+            return e;
+        }
+        next.value[ids[i]] = values[i];
+    }
+    /* a rule between fields is the set's, not one field's: the library's field names it */
+    return apply_params(c, &next, "model", why);
 }
 
 ss_proto_error_t ss_node_core_reset(ss_node_core_t *c, float drive0_v, ss_node_refusal_t *why)

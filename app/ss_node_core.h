@@ -21,6 +21,8 @@ enum {
     SS_NODE_P_COUNT
 };
 #define SS_NODE_N_PARAMS ((uint32_t)SS_NODE_P_COUNT)
+#define SS_NODE_N_PARAMS_TEXT "27" /* in reason texts; a static assertion keeps it true */
+typedef char ss_node_n_params_text_check[(SS_NODE_P_COUNT == 27) ? 1 : -1];
 
 /* Steps a free run may take in one poll before the front end reads its link again. */
 #define SS_NODE_MAX_STEPS_PER_POLL 2000u
@@ -91,6 +93,11 @@ ss_proto_error_t ss_node_core_get_param(const ss_node_core_t *core, uint32_t id,
 /* Checks and applies one parameter; the model goes to rest where the next RUN starts: at the
  * loaded waveform's value at t = 0, the waveform restarted (0 V without a waveform). */
 ss_proto_error_t ss_node_core_set_param(ss_node_core_t *core, uint32_t id, float v, ss_node_refusal_t *why);
+/* SET_MODEL: n parameters (ids, values) at once, every one checked against the table and the whole
+ * set by the library; all are applied or none (the refusal names the field). The model goes to
+ * rest as after SET_PARAM. */
+ss_proto_error_t ss_node_core_set_params(ss_node_core_t *core, const uint8_t *ids, const float *values,
+                                         uint32_t n, ss_node_refusal_t *why);
 /* The model at rest at drive0_v; the waveform restarts at t = 0. */
 ss_proto_error_t ss_node_core_reset(ss_node_core_t *core, float drive0_v, ss_node_refusal_t *why);
 /* Checks and loads a sawtooth; the model goes to rest at its start. A field out of range is

@@ -4,6 +4,8 @@
  * to this application. Every conversion below gives the same bits on every target. */
 #include "ss_node_model.h"
 
+#include <string.h>
+
 #include "ss_convert_q.h" /* float32 and SI at the node's edges */
 
 /* float32 volts to Q16.16: floor(v 2^16 + 1/2) in double, saturated (ss_volts_to_q16, the
@@ -34,9 +36,43 @@ ss_node_config_t ss_node_model_default_config(void)
 
 /* Through the host converter (double and libm), so a target matches the host to the bit only where
  * both round the same (docs/fixed-point.md). */
+/* The converter refuses any effect by its field name; say why (the q family has none yet). */
+#define SS_NO_Q(field)                                                                                       \
+    {                                                                                                        \
+        field, field ": the fixed-point node has no effects"                                                 \
+    }
+static const char *no_effects_reason(const char *field)
+{
+    static const char *const table[][2] = {
+        SS_NO_Q("friction.asymmetry"),
+        SS_NO_Q("effects.hysteresis_alpha"),
+        SS_NO_Q("effects.creep_ratio"),
+        SS_NO_Q("effects.load_n"),
+        SS_NO_Q("effects.friction_gradient_per_m"),
+        SS_NO_Q("effects.slew_v_per_s"),
+        SS_NO_Q("effects.thermal_coeff_per_j"),
+        SS_NO_Q("effects.base_mass_kg"),
+        SS_NO_Q("effects.sensor_scale_error"),
+    };
+    for (size_t i = 0; i < sizeof table / sizeof table[0]; ++i) {
+        if (strcmp(field, table[i][0]) == 0) {
+            return table[i][1];
+        }
+    }
+    return field;
+}
+#undef SS_NO_Q
+
 ss_status_t ss_node_model_config(const ss_actuator_config_f32_t *f, ss_node_config_t *out, const char **why)
 {
-    return ss_actuator_config_to_q(f, out, why);
+    ss_status_t st = ss_actuator_config_check_f32(f, why); /* out of range: the float family's words */
+    if (st == SS_OK) {
+        st = ss_actuator_config_to_q(f, out, why);
+        if (st != SS_OK) {
+            *why = no_effects_reason(*why);
+        }
+    }
+    return st;
 }
 
 void ss_node_model_init(const ss_node_config_t *cfg, ss_node_state_t *st, ss_node_drive_t d)

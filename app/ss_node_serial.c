@@ -218,6 +218,30 @@ static void handle_set_param(ss_node_serial_t *n)
     send_reply(n, SS_MSG_SET_PARAM, b, sizeof b);
 }
 
+static void handle_set_model(ss_node_serial_t *n)
+{
+    const ss_proto_packet_t *pk = &n->pkt;
+    uint8_t ids[SS_NODE_N_PARAMS];
+    float values[SS_NODE_N_PARAMS];
+    const uint32_t count = pk->len / 5u;
+    if (pk->len == 0u || pk->len % 5u != 0u || count > SS_NODE_N_PARAMS) {
+        send_err(n, SS_PERR_BAD_PAYLOAD, "SET_MODEL takes 1 to " SS_NODE_N_PARAMS_TEXT " id + f32 pairs", "");
+        return;
+    }
+    for (size_t i = 0; i < count; ++i) {
+        ids[i] = pk->payload[5u * i];
+        values[i] = ss_get_f32(&pk->payload[5u * i + 1u]);
+    }
+    ss_node_refusal_t why;
+    const ss_proto_error_t e = ss_node_core_set_params(&n->core, ids, values, count, &why);
+    if (e != SS_PERR_NONE) {
+        send_refusal(n, e, &why);
+        return;
+    }
+    const uint8_t b[1] = {(uint8_t)count};
+    send_reply(n, SS_MSG_SET_MODEL, b, sizeof b);
+}
+
 static void handle_reset(ss_node_serial_t *n)
 {
     const ss_proto_packet_t *pk = &n->pkt;
@@ -342,6 +366,7 @@ static void handle_packet(ss_node_serial_t *n)
     case SS_MSG_PARAM_INFO: handle_param_info(n); break;
     case SS_MSG_GET_PARAM: handle_get_param(n); break;
     case SS_MSG_SET_PARAM: handle_set_param(n); break;
+    case SS_MSG_SET_MODEL: handle_set_model(n); break;
     case SS_MSG_RESET: handle_reset(n); break;
     case SS_MSG_LOAD_WAVEFORM: handle_load_waveform(n); break;
     case SS_MSG_DRIVE_BLOCK: handle_drive_block(n); break;

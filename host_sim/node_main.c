@@ -42,12 +42,63 @@ static void usage(FILE *f)
                "  --can-pty          CAN frames over SLCAN on a new pseudo-terminal\n"
                "  --can-tcp PORT     CAN frames over SLCAN on 127.0.0.1:PORT (python-can slcan, socket://)\n"
                "  --socketcan IFACE  CAN frames on a SocketCAN interface (vcan0, can0)\n"
+               "  --set NAME=VALUE   a parameter of the model served (repeatable; all applied at once)\n"
                "  --help             this text\n"
                "Protocol and CAN messages: docs/protocol.md, hil/stickslip/hil/stickslip.dbc.\n");
 }
 
+/* --set NAME=VALUE options, taken out of argv (the link options stay); 0 and a message when one
+ * is malformed or names no parameter. */
+static int take_sets(int *argc, char **argv, uint8_t *ids, float *values, uint32_t *n)
+{
+    int out = 1;
+    *n = 0u;
+    for (int i = 1; i < *argc; ++i) {
+        if (strcmp(argv[i], "--set") != 0) {
+            argv[out++] = argv[i];
+            continue;
+        }
+        const char *arg = (i + 1 < *argc) ? argv[++i] : "";
+        const char *eq = strchr(arg, '=');
+        uint32_t id = 0;
+        char *end = NULL;
+        const double v = (eq != NULL) ? strtod(eq + 1, &end) : 0.0;
+        if (eq == NULL || !ss_node_core_param_id((const uint8_t *)arg, (size_t)(eq - arg), &id)) {
+            fprintf(stderr,
+                    SS_NODE_PROGRAM ": --set: expected NAME=VALUE with a parameter name of "
+                                    "docs/protocol.md, got '%s'\n",
+                    arg);
+            return 0;
+        }
+        if (end == eq + 1 || *end != '\0' || *n >= SS_NODE_N_PARAMS) {
+            fprintf(stderr, SS_NODE_PROGRAM ": --set %.*s: expected a number, got '%s'\n", (int)(eq - arg),
+                    arg, eq + 1);
+            return 0;
+        }
+        ids[*n] = (uint8_t)id;
+        values[(*n)++] = (float)v;
+    }
+    *argc = out;
+    return 1;
+}
+
 int main(int argc, char **argv)
 {
+    /* the model to serve: Table I, changed by --set options, all at once (SET_MODEL's rules) */
+    uint8_t set_ids[SS_NODE_N_PARAMS];
+    float set_values[SS_NODE_N_PARAMS];
+    uint32_t n_set = 0;
+    if (!take_sets(&argc, argv, set_ids, set_values, &n_set)) {
+        return 2;
+    }
+    static ss_node_core_t trial; /* judged before a link is opened: a refused model serves nothing */
+    ss_node_refusal_t why;
+    ss_node_core_init(&trial);
+    if (n_set > 0u && ss_node_core_set_params(&trial, set_ids, set_values, n_set, &why) != SS_PERR_NONE) {
+        fprintf(stderr, SS_NODE_PROGRAM ": --set refused: %s%s%s\n", why.what, why.why[0] ? ": " : "",
+                why.why);
+        return 2;
+    }
     static ss_posix_link_t link; /* large buffers: not on the stack */
     static ss_slcan_port_t slcan;
     static ss_socketcan_t socketcan;
@@ -120,11 +171,14 @@ int main(int argc, char **argv)
     if (can == &slcan.can) {
         ss_slcan_port_init(&slcan, &link.link);
     }
-    const ss_node_core_t *core = (can != NULL) ? &can_node.core : &node.core;
+    ss_node_core_t *core = (can != NULL) ? &can_node.core : &node.core;
     if (can != NULL) {
         ss_node_can_init(&can_node, can);
     } else {
         ss_node_serial_init(&node, &link.link);
+    }
+    if (n_set > 0u) {
+        (void)ss_node_core_set_params(core, set_ids, set_values, n_set, &why); /* accepted above */
     }
     while (!stop_requested) {
         if (can != NULL) {

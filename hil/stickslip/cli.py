@@ -296,6 +296,14 @@ def cmd_hil_node(a: argparse.Namespace) -> int:
 
     exe = str(node_binary())
     args = [exe, "--pty"] if a.link == "pty" else [exe, "--tcp", str(a.port)]
+    if a.model:
+        from .hil.node import HilError, model_args
+        from .model_file import load as load_model
+
+        try:
+            args += model_args(load_model(a.model))
+        except HilError as e:
+            raise CliError(f"--model {a.model}: {e}") from None
     sys.stdout.flush()
     os.execv(exe, args)  # the node prints where it listens; Ctrl-C stops it
     return 0  # not reached
@@ -602,6 +610,9 @@ def build_parser() -> argparse.ArgumentParser:
     hn = hs.add_parser("node", help="start a host node (stickslip_node) and print where it listens")
     hn.add_argument("--link", choices=("pty", "tcp"), default="pty")
     hn.add_argument("--port", type=int, default=0, help="TCP port on 127.0.0.1 (0: any free port)")
+    hn.add_argument(
+        "--model", metavar="FILE", help="serve this model (stick-slip-model/1) instead of Table I"
+    )
     hn.set_defaults(func=cmd_hil_node)
     hr = hs.add_parser(
         "run",

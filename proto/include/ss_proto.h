@@ -24,6 +24,7 @@ typedef enum {
     SS_MSG_DRIVE_BLOCK = 0x07,
     SS_MSG_RUN = 0x08,
     SS_MSG_STOP = 0x09,
+    SS_MSG_SET_MODEL = 0x0A,
     SS_MSG_TELEMETRY = 0x10,
     SS_MSG_ERROR = 0x7F,
     SS_MSG_REPLY = 0x80 /* or-ed into a request's type */

@@ -121,6 +121,45 @@ static void test_params(void **unused)
     assert_memory_equal(&r->payload[14], "sigma0_n_per_m", 14);
 }
 
+/* SET_MODEL: every pair at once, the library judges the set; one bad field and nothing changes. */
+static void test_set_model_is_all_or_nothing(void **unused)
+{
+    (void)unused;
+    uint8_t p[64];
+    const struct {
+        uint8_t id;
+        float v;
+    } good[] = {
+        {SS_NODE_P_HALPHA, 0.1f}, {SS_NODE_P_HWIDTH, 2e-7f}, {SS_NODE_P_LOAD, 0.05f}, {SS_NODE_P_N, 12.0f}};
+    for (size_t i = 0; i < 4; ++i) {
+        p[5 * i] = good[i].id;
+        ss_put_f32(&p[5 * i + 1], good[i].v);
+    }
+    const ss_proto_packet_t *r = request(SS_MSG_SET_MODEL, p, 20);
+    assert_int_equal(r->type, SS_MSG_SET_MODEL | SS_MSG_REPLY);
+    assert_int_equal(r->payload[1], 4);
+    assert_true(node.core.cfg.effects.hysteresis_alpha == 0.1f && node.core.cfg.effects.load_n == 0.05f);
+    assert_true(node.core.cfg.friction.fs_n == 0.36f * 12.0f);
+    /* a hysteresis without its width alone is a rule between fields: the library's field named */
+    const ss_node_params_t before = node.core.params;
+    p[0] = SS_NODE_P_HWIDTH;
+    ss_put_f32(&p[1], 0.0f);
+    p[5] = SS_NODE_P_LOAD;
+    ss_put_f32(&p[6], 0.2f);
+    expect_error(request(SS_MSG_SET_MODEL, p, 10), SS_PERR_OUT_OF_RANGE, "model: effects.hysteresis_width_m");
+    /* one field out of its table range: named, and the valid one before it not applied either */
+    p[0] = SS_NODE_P_LOAD;
+    ss_put_f32(&p[1], 0.3f);
+    p[5] = SS_NODE_P_SLEW;
+    ss_put_f32(&p[6], -1.0f);
+    expect_error(request(SS_MSG_SET_MODEL, p, 10), SS_PERR_OUT_OF_RANGE, "slew_v_per_s: outside its range");
+    p[5] = 99;
+    expect_error(request(SS_MSG_SET_MODEL, p, 10), SS_PERR_UNKNOWN_PARAM, "id");
+    expect_error(request(SS_MSG_SET_MODEL, p, 7), SS_PERR_BAD_PAYLOAD, "SET_MODEL takes 1 to 27");
+    expect_error(request(SS_MSG_SET_MODEL, p, 0), SS_PERR_BAD_PAYLOAD, "SET_MODEL");
+    assert_memory_equal(&node.core.params, &before, sizeof before);
+}
+
 /* DRIVE_BLOCK steps exactly like the library does, and a duplicate is not executed again. */
 static void test_drive_block_lockstep_and_duplicate(void **unused)
 {
@@ -588,6 +627,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_hello, setup),
         cmocka_unit_test_setup(test_params, setup),
+        cmocka_unit_test_setup(test_set_model_is_all_or_nothing, setup),
         cmocka_unit_test_setup(test_drive_block_lockstep_and_duplicate, setup),
         cmocka_unit_test(test_no_accepted_drive_makes_the_state_non_finite),
         cmocka_unit_test_setup(test_free_run_paced_busy_stop, setup),

@@ -118,7 +118,7 @@ def c_param_table() -> list[tuple[str, float, float]]:
 
 def test_python_parameter_ids_match_the_c_table_entry_by_entry():
     table = c_param_table()
-    assert len(table) == 13
+    assert len(table) == 27  # 13 actuator and friction parameters, 14 effects
     assert [name for name, _, _ in table] == P.PARAM_NAMES
     for i, (name, lo, hi) in enumerate(table):
         assert P.PARAM_NAMES.index(name) == i and lo < hi
@@ -366,3 +366,49 @@ def test_position_command(capsys):
     s = json.loads(capsys.readouterr().out)
     assert abs(s["final_error_m"]) <= 5e-9
     assert main(["hil", "position", "--target-m", "1"]) == 2
+
+
+def _model_with_effects():
+    from stickslip.model import ActuatorParams, Effects
+    from stickslip.model_file import ModelFile
+
+    effects = Effects(
+        load_n=0.05, hysteresis_alpha=0.1, hysteresis_width_m=2e-7, slew_v_per_s=2e6,
+        friction_asymmetry=0.1, creep_ratio=0.02, creep_tau_s=0.05,
+    )  # fmt: skip
+    return ModelFile(ActuatorParams.table1(), "lugre", effects)
+
+
+@pytest.mark.parametrize("how", ["started_with", "sent"])
+def test_a_model_with_effects_runs_on_the_node_bit_for_bit(how):
+    # issue 16: a model file into the node, at start (--set) or over the link (SET_MODEL)
+    m = _model_with_effects()
+    w = Sawtooth(cycles=2)
+    r = simulate(w, m.params, model=m.law, effects=m.effects)
+    with HostNode("tcp", model=m if how == "started_with" else None) as n, NodeClient(n.url) as c:
+        if how == "sent":
+            c.load_model(m)
+        assert c.get("load_n") == pytest.approx(0.05) and c.get("friction_model") == 1.0
+        c.reset(float(r.drive_v[0]))
+        tel = c.lockstep(r.drive_v[1:4001])
+    assert np.array_equal(f32(tel.x_slider_m), f32(r.x_slider_m[1:4001]))
+    assert np.array_equal(f32(tel.friction_n), f32(r.force_n[1:4001]))
+
+
+def test_a_model_the_node_cannot_run_is_refused_by_name(tcp_node):
+    import dataclasses
+
+    from stickslip.hil.node import HilError
+
+    m = _model_with_effects()
+    with NodeClient(tcp_node.url) as c:
+        with pytest.raises(HilError, match="the node runs ls or lugre friction, the model gms"):
+            c.load_model(dataclasses.replace(m, law="gms"))
+        with pytest.raises(HilError, match="the node steps at 1e-06 s, the model at 2e-06 s"):
+            c.load_model(dataclasses.replace(m, dt_s=2e-6))
+        # all or nothing: a rule between fields refuses the whole set
+        with pytest.raises(NodeError, match="model: effects.hysteresis_width_m"):
+            c.set_model({"load_n": 0.3, "hysteresis_alpha": 0.2, "hysteresis_width_m": 0.0})
+        assert c.get("load_n") == 0.0
+    with pytest.raises(HilError, match="hysteresis_alpha: the fixed-point node has no effects"):
+        HostNode("tcp", variant="q", model=m)

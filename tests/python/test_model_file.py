@@ -154,3 +154,12 @@ def test_model_export_and_check_commands(tmp_path, capsys):
         assert main(["model", "export", "--out", str(tmp_path / "never"), *args]) == 2
         assert words in capsys.readouterr().err
         assert not (tmp_path / "never").exists()
+
+
+def test_hil_node_refuses_a_model_it_cannot_serve_before_it_starts(tmp_path, capsys):
+    gms = MF.save(MF.ModelFile(ActuatorParams.table1(), "gms"), tmp_path / "gms.json")
+    assert main(["hil", "node", "--link", "tcp", "--model", str(gms)]) == 2
+    assert "the node runs ls or lugre friction, the model gms" in capsys.readouterr().err
+    (tmp_path / "bad.json").write_text("{}")
+    assert main(["hil", "node", "--link", "tcp", "--model", str(tmp_path / "bad.json")]) == 2
+    assert "format: must be 'stick-slip-model/1'" in capsys.readouterr().err

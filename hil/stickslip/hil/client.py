@@ -19,6 +19,7 @@ import numpy as np
 import serial
 
 from ..model import VARIANTS, Sawtooth
+from ..model_file import ModelFile
 from . import protocol as P
 from .node import (
     BadReplyError,
@@ -33,6 +34,8 @@ from .node import (
     Telemetry,
     check_socket_url,
     checked,
+    model_args,
+    model_values,
     naming_sent_value,
 )
 
@@ -234,6 +237,18 @@ class NodeClient:
             raise NodeError(e.code, e.request_type, words) from None
         return struct.unpack_from("<Bf", checked("SET_PARAM", reply, 5))[1]
 
+    def set_model(self, values: dict[str, float]) -> int:
+        """SET_MODEL: every parameter given at once, applied together or not at all (the node
+        names the field at fault); returns how many were set. The model goes to rest."""
+        payload = b"".join(
+            struct.pack("<Bf", P.PARAM_NAMES.index(k), float(v)) for k, v in values.items()
+        )
+        return checked("SET_MODEL", self.request(P.SET_MODEL, payload), 1)[0]
+
+    def load_model(self, model: ModelFile) -> None:
+        """The node runs `model` from now on (model_values: every parameter, effects included)."""
+        self.set_model(model_values(model, self.info.dt_s))
+
     def reset(self, drive0_v: float = 0.0) -> None:
         self.request(P.RESET, struct.pack("<f", drive0_v))
 
@@ -331,9 +346,9 @@ def node_binary(variant: str = "f32") -> Path:
 
 
 class HostNode:
-    """Start stickslip_node (variant "q": stickslip_node_q) as a child process; `url` is where to
-    connect: a pty path or socket://127.0.0.1:PORT, carrying the serial protocol (pty, tcp) or
-    SLCAN (can-pty, can-tcp)."""
+    """Start stickslip_node (variant "q": stickslip_node_q) as a child process, serving `model`
+    (Table I when None); `url` is where to connect: a pty path or socket://127.0.0.1:PORT,
+    carrying the serial protocol (pty, tcp) or SLCAN (can-pty, can-tcp)."""
 
     ARGS = {
         "pty": ["--pty"],
@@ -342,17 +357,18 @@ class HostNode:
         "can-tcp": ["--can-tcp", "0"],
     }
 
-    def __init__(self, link: str = "pty", variant: str = "f32"):
+    def __init__(self, link: str = "pty", variant: str = "f32", model: ModelFile | None = None):
         if link not in self.ARGS:
             raise ValueError(f"link must be one of {sorted(self.ARGS)}, got {link!r}")
         exe = node_binary(variant)
-        cmd = [str(exe), *self.ARGS[link]]
-        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True)
+        cmd = [str(exe), *self.ARGS[link], *(model_args(model) if model else [])]
+        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         line = self.proc.stdout.readline() if self.proc.stdout else ""
         m = re.search(r"(?:serial|slcan) (?:pty (\S+)|tcp (\S+))", line)
         if not m:
             self.close()
-            raise RuntimeError(f"{exe.name} did not start: {line!r}")
+            said = self.proc.stderr.read().strip() if self.proc.stderr else ""
+            raise HilError(f"{exe.name} did not start: {said or line!r}")
         self.url = m.group(1) or f"socket://{m.group(2)}"
 
     def __enter__(self) -> HostNode:

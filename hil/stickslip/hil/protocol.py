@@ -14,6 +14,7 @@ MAX_PACKET = MAX_PAYLOAD + OVERHEAD
 MAX_WIRE = MAX_PACKET + MAX_PACKET // 254 + 2
 
 HELLO, PARAM_INFO, GET_PARAM, SET_PARAM, RESET, LOAD_WAVEFORM, DRIVE_BLOCK, RUN, STOP = range(1, 10)
+SET_MODEL = 0x0A
 TELEMETRY, ERROR, REPLY = 0x10, 0x7F, 0x80
 TYPE_NAMES = {
     HELLO: "HELLO",
@@ -25,6 +26,7 @@ TYPE_NAMES = {
     DRIVE_BLOCK: "DRIVE_BLOCK",
     RUN: "RUN",
     STOP: "STOP",
+    SET_MODEL: "SET_MODEL",
     TELEMETRY: "TELEMETRY",
     ERROR: "ERROR",
 }
@@ -71,7 +73,23 @@ PARAM_NAMES = [
     "sigma1_ns_per_m",
     "sigma2_ns_per_m",
     "friction_model",
+    # the catalog's effects (ids 13 on; docs/effects.md), all off by default
+    "friction_asymmetry",
+    "hysteresis_alpha",
+    "hysteresis_width_m",
+    "creep_ratio",
+    "creep_tau_s",
+    "load_n",
+    "friction_gradient_per_m",
+    "slew_v_per_s",
+    "thermal_coeff_per_j",
+    "thermal_tau_s",
+    "base_mass_kg",
+    "base_freq_hz",
+    "base_damping_ratio",
+    "sensor_scale_error",
 ]
+NODE_LAWS = {"ls": 0.0, "lugre": 1.0}  # the friction_model parameter's values
 
 
 def crc16(data: bytes) -> int:

@@ -47,7 +47,10 @@ class HilRun:
 
 
 def node_params(client: NodeSession) -> ActuatorParams:
-    values = {name: p.value for name, p in client.params().items() if name != "friction_model"}
+    """The node's actuator and friction parameters (a recorded dataset's nominal ones; its
+    effects, like a real stage's, are for the diagnosis to find)."""
+    names = set(ActuatorParams.__dataclass_fields__)
+    values = {name: p.value for name, p in client.params().items() if name in names}
     return ActuatorParams.from_dict(values, "node parameters")
 
 
