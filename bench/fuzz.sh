@@ -56,7 +56,7 @@ for t in "${targets[@]}"; do
   crashes=$(find "$out/crashes" -type f | wc -l)
   execs=$(grep -oE "stat::number_of_executed_units: [0-9]+" "$out/fuzz.log" | grep -oE "[0-9]+$" || echo 0)
   line=$(grep -E "^#[0-9]+[[:space:]]+DONE" "$out/fuzz.log" | tail -1 || true)
-  took=$(grep -oE "Done [0-9]+ runs in [0-9]+ second" "$out/fuzz.log" | grep -oE "[0-9]+ second" || echo "$secs s")
+  took=$(grep -oE "Done [0-9]+ runs in [0-9]+ second" "$out/fuzz.log" | grep -oE "[0-9]+ second" || echo "$secs")
   echo "fuzz $t: $execs executions in ${took% second} s, $crashes findings (artifacts in $out/crashes); ${line#*DONE }"
   [ "$crashes" -eq 0 ] || status=1
 done

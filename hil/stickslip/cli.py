@@ -355,6 +355,42 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_hil_replay(a: argparse.Namespace) -> int:
+    from . import dataset as D
+    from .hil.client import HostNode, NodeClient, QemuNode
+    from .hil.replay import replay
+    from .model_file import load as load_model
+
+    m = load_model(a.model)
+    ds = D.load(a.dataset)
+    with contextlib.ExitStack() as stack:
+        url = a.url
+        if url is None:
+            if a.node_link.startswith("qemu-"):
+                url = stack.enter_context(QemuNode(a.node_link)).url
+            else:
+                host_link, _, variant = a.node_link.partition("-")
+                url = stack.enter_context(HostNode(host_link, variant or "f32")).url
+        with NodeClient(url) as c, Progress("replay", total=None, quiet=a.quiet) as bar:
+            r = replay(c, ds, m, say=bar.status)
+    runs = "\n".join(
+        f"  {x['id']:24s} {x['rmse_m'] * 1e9:8.3f} nm ({x['rows']} samples)" for x in r["runs"]
+    )
+    val, diag = r["validation_rmse_m"], r["diagnosis_validation_rmse_m"]
+    against = (
+        f"; validation runs {val * 1e9:.3f} nm, the diagnosis said {diag * 1e9:.3f} nm"
+        if val is not None and diag is not None
+        else ""
+    )
+    _report(
+        a,
+        r,
+        f"replay of {a.dataset} on {r['node']['variant']} node {url}:\n{runs}\n"
+        f"all runs {r['rmse_m'] * 1e9:.3f} nm RMS{against}",
+    )
+    return 0
+
+
 def cmd_hil_position(a: argparse.Namespace) -> int:
     from .hil.client import HostNode, NodeClient
     from .hil.positioning import position
@@ -652,6 +688,25 @@ def build_parser() -> argparse.ArgumentParser:
     _add_json_option(hr, "the run's summary")
     _add_quiet_option(hr)
     hr.set_defaults(func=cmd_hil_run)
+    hy = hs.add_parser(
+        "replay",
+        help="replay a dataset against a model on a node, run by run",
+        description="Load a model file (stick-slip-model/1) into a node, drive it with each run's "
+        "recorded drive in lock-step, and report the RMS error against the measured positions, "
+        "computed as the diagnosis computes its validation error.",
+    )
+    hy.add_argument("dataset", help="dataset folder (stick-slip-dataset/1)")
+    hy.add_argument("--model", required=True, metavar="FILE", help="model file (diagnose --export)")
+    hy.add_argument("--url", help="serial node to use (default: start one, --node-link)")
+    hy.add_argument(
+        "--node-link",
+        choices=NODE_LINKS,
+        default="tcp",
+        help="the node started here (default tcp: the host node; qemu-*: the firmware)",
+    )
+    _add_json_option(hy, "the replay's figures")
+    _add_quiet_option(hy)
+    hy.set_defaults(func=cmd_hil_replay)
     hp = hs.add_parser(
         "position",
         help="closed-loop positioning to a target through a node",

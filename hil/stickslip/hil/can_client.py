@@ -14,6 +14,7 @@ import numpy as np
 import serial
 
 from ..model import VARIANTS, Sawtooth
+from ..model_file import ModelFile
 from . import protocol as P
 from .node import (
     BadReplyError,
@@ -190,6 +191,14 @@ class CanNodeClient:
         return {
             n: ParamInfo(i, n, self.get(i), math.nan, math.nan) for i, n in enumerate(P.PARAM_NAMES)
         }
+
+    def load_model(self, model: ModelFile) -> None:
+        """Not over CAN yet: it sets one parameter at a time, and a model's effects must go in
+        together (docs/protocol.md, SET_MODEL). Start the node with the model instead."""
+        raise HilError(
+            "the CAN link has no SET_MODEL yet: start the node with the model "
+            "(stickslip_node --can-tcp 0 --set ..., stickslip.hil.node.model_args)"
+        )
 
     def reset(self, drive0_v: float = 0.0) -> None:
         self.request("RESET", value=drive0_v)

@@ -1,0 +1,96 @@
+"""Replay a dataset against a model running on a node (issue 16): each run's drive in lock-step,
+the node's slider positions against the measured ones, the error computed as the diagnosis
+computes its validation error (stickslip.diagnosis.fit.evaluate): at the fit's samples (the
+measured positions anti-alias filtered to at most 50 kS/s), with each run's start placed by least
+squares. A float32 host node then reproduces the diagnosis' figure bit for bit: it steps the same
+C model with the same drive samples as the batch simulation the fits ran."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import dataset as D
+from ..diagnosis.fit import FitRun, prepare_all, sim_step_s
+from ..model import drive_samples
+from ..model_file import ModelFile
+from . import protocol as P
+from .node import HilError, NodeSession, StepProgress
+
+
+@dataclass
+class ReplayedRun:
+    id: str
+    rmse_m: float
+    rows: int
+    rss_m2: float  # sum of squared residuals (the aggregate's share)
+
+
+def _drive(run: FitRun, dt_s: float, steps: int) -> np.ndarray:
+    """The drive at t = 0 and after each step, as the batch simulation of the fits feeds it."""
+    if run.waveform is not None:
+        return drive_samples(run.waveform, dt_s, steps)
+    # a run without a waveform block: its recorded drive, linearly interpolated (the C player's
+    # rule for sampled drive), held after the end
+    t = np.arange(steps + 1) * dt_s
+    src_t = np.arange(len(run.drive_v)) * run.drive_dt_s
+    return np.interp(t, src_t, run.drive_v).astype(np.float32)
+
+
+def replay_run(
+    client: NodeSession, run: FitRun, model: ModelFile, progress: StepProgress = None
+) -> tuple[ReplayedRun, np.ndarray]:
+    """One run through the node in lock-step: its error, and the positions it made (at the fit's
+    samples, offset placed)."""
+    dt, dec = sim_step_s(run)
+    if not math.isclose(dt, client.info.dt_s, rel_tol=1e-6):
+        raise HilError(
+            f"run {run.id}: the fit samples every {run.dt_s:g} s, which needs a {dt:g} s step; "
+            f"the node steps at {client.info.dt_s:g} s"
+        )
+    rows_per_block = min(P.MAX_ROWS, 255 // dec)
+    if rows_per_block < 1:
+        raise HilError(f"run {run.id}: {dec} steps per sample, more than a DRIVE_BLOCK carries")
+    n = len(run.t_s) - 1
+    drive = _drive(run, dt, n * dec)
+    client.reset(float(drive[0]))
+    tel = client.lockstep(drive[1:], block=dec * rows_per_block, decimation=dec, progress=progress)
+    x = np.concatenate([[0.0], tel.x_slider_m])[: n + 1]
+    x = x * (1.0 + model.effects.sensor_scale_error)  # what the sensor reports (x_meas_m)
+    x = x + float(np.mean(run.x_m - x))
+    r = x - run.x_m
+    rss = float(np.sum(r**2))
+    return ReplayedRun(run.id, float(np.sqrt(rss / len(r))), len(r), rss), x
+
+
+def replay(
+    client: NodeSession,
+    ds: D.Dataset,
+    model: ModelFile,
+    say=lambda msg: None,
+    progress: StepProgress = None,
+) -> dict:
+    """Load model into the node, replay every run of ds, and return the figures
+    ({"model": ..., "runs": [{"id", "rmse_m", "rows"}], "validation_rmse_m", ...})."""
+    client.load_model(model)
+    runs = prepare_all(ds.runs)
+    done: list[ReplayedRun] = []
+    for run in runs:
+        say(f"replaying {run.id}")
+        done.append(replay_run(client, run, model, progress)[0])
+    val_ids = model.source.get("validation_runs") or []
+    val = [r for r in done if r.id in val_ids]
+
+    def rms(rs: list[ReplayedRun]) -> float | None:
+        return math.sqrt(sum(r.rss_m2 for r in rs) / sum(r.rows for r in rs)) if rs else None
+
+    return {
+        "model": {"law": model.law, "causes": list(model.causes), "source": model.source},
+        "node": {"model": client.info.model, "variant": client.info.variant, "url": client.url},
+        "runs": [{"id": r.id, "rmse_m": r.rmse_m, "rows": r.rows} for r in done],
+        "rmse_m": rms(done),
+        "validation_rmse_m": rms(val),
+        "diagnosis_validation_rmse_m": model.source.get("validation_rmse_m"),
+    }
