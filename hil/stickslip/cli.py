@@ -372,7 +372,7 @@ def cmd_hil_replay(a: argparse.Namespace) -> int:
                 host_link, _, variant = a.node_link.partition("-")
                 url = stack.enter_context(HostNode(host_link, variant or "f32")).url
         with NodeClient(url) as c, Progress("replay", total=None, quiet=a.quiet) as bar:
-            r = replay(c, ds, m, say=bar.status)
+            r = replay(c, ds, m, say=bar.status, only=a.runs)
     runs = "\n".join(
         f"  {x['id']:24s} {x['rmse_m'] * 1e9:8.3f} nm ({x['rows']} samples)" for x in r["runs"]
     )
@@ -703,6 +703,12 @@ def build_parser() -> argparse.ArgumentParser:
         choices=NODE_LINKS,
         default="tcp",
         help="the node started here (default tcp: the host node; qemu-*: the firmware)",
+    )
+    hy.add_argument(
+        "--runs",
+        nargs="+",
+        metavar="ID",
+        help="replay these runs only ('validation': the model's validation runs)",
     )
     _add_json_option(hy, "the replay's figures")
     _add_quiet_option(hy)

@@ -79,3 +79,12 @@ def test_replay_command_writes_its_figures(stage, tmp_path, capsys):
     assert j["validation_rmse_m"] == pytest.approx(j["runs"][1]["rmse_m"])
     assert "all runs" in capsys.readouterr().out
     assert np.isfinite(j["rmse_m"])
+
+
+def test_replay_of_chosen_runs_and_a_run_that_is_not_there(stage, capsys):
+    ds, m, path = stage
+    assert main(["hil", "replay", str(ds.path), "--model", str(path), "--runs", "validation"]) == 0
+    out = capsys.readouterr().out
+    assert "f500_-1" in out and "f500_1 " not in out
+    assert main(["hil", "replay", str(ds.path), "--model", str(path), "--runs", "f100"]) == 2
+    assert "runs ['f100'] are not in" in capsys.readouterr().err

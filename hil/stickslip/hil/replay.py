@@ -71,16 +71,26 @@ def replay(
     model: ModelFile,
     say=lambda msg: None,
     progress: StepProgress = None,
+    only: list[str] | None = None,
 ) -> dict:
-    """Load model into the node, replay every run of ds, and return the figures
+    """Load model into the node, replay the runs of ds (those named in `only`, when given; the
+    word "validation" stands for the model's validation runs), and return the figures
     ({"model": ..., "runs": [{"id", "rmse_m", "rows"}], "validation_rmse_m", ...})."""
+    val_ids = model.source.get("validation_runs") or []
+    runs = prepare_all(ds.runs)  # the stroke over every run, as the diagnosis saw it
+    if only:
+        wanted = {i for o in only for i in (val_ids if o == "validation" else [o])}
+        unknown = sorted(wanted - {r.id for r in runs})
+        if unknown or not wanted:
+            raise HilError(
+                f"runs {unknown or only} are not in {ds.path} (it has {[r.id for r in runs]})"
+            )
+        runs = [r for r in runs if r.id in wanted]
     client.load_model(model)
-    runs = prepare_all(ds.runs)
     done: list[ReplayedRun] = []
     for run in runs:
         say(f"replaying {run.id}")
         done.append(replay_run(client, run, model, progress)[0])
-    val_ids = model.source.get("validation_runs") or []
     val = [r for r in done if r.id in val_ids]
 
     def rms(rs: list[ReplayedRun]) -> float | None:
