@@ -10,6 +10,18 @@ static const ss_node_param_def_t PARAMS[SS_NODE_N_PARAMS] = {
 #undef SS_NODE_PARAM
 };
 
+#ifdef SS_MODEL_HEADER
+/* A model compiled in (cmake -DSS_MODEL_HEADER=path, a header from `stickslip model export`):
+ * its SS_MODEL_NODE_PARAMS are the node's defaults instead of Table I. */
+#include SS_MODEL_HEADER
+#ifndef SS_MODEL_NODE_PARAMS
+#error "SS_MODEL_HEADER: no SS_MODEL_NODE_PARAMS (GMS, or a step other than the node's 1 us)"
+#endif
+#if defined(SS_NODE_MODEL_Q) && !defined(SS_MODEL_CONFIG_Q)
+#error "SS_MODEL_HEADER: the fixed-point node cannot run this model (it has effects)"
+#endif
+#endif
+
 /* Table I as the parameter table's defaults: from the library, never written out here. */
 static void params_table1(ss_node_params_t *p)
 {
@@ -115,8 +127,21 @@ void ss_node_core_session_reset(ss_node_core_t *c)
 
 void ss_node_core_init(ss_node_core_t *c)
 {
+#ifdef SS_MODEL_NODE_PARAMS
+    static const float model[SS_NODE_N_PARAMS] = SS_MODEL_NODE_PARAMS;
+    memcpy(c->params.value, model, sizeof model);
+    const ss_actuator_config_f32_t f = config_from(&c->params);
+    const char *field = "";
+    if (ss_node_model_config(&f, &c->cfg, &field) != SS_OK) {
+        /* not reached: the export checked the model with this library, and the #errors above
+         * keep a model the family cannot run out of the build */
+        params_table1(&c->params);
+        c->cfg = ss_node_model_default_config();
+    }
+#else
     params_table1(&c->params);
     c->cfg = ss_node_model_default_config(); /* what config_from(the defaults) gives */
+#endif
     c->wave_loaded = 0;
     rest(c, ss_node_model_drive_from_v(0.0f));
     ss_node_core_session_reset(c);

@@ -181,6 +181,15 @@ def c_header(m: ModelFile, guard: str = "SS_MODEL_H") -> str:
     ]
     body = "{\n" + _c_initializer(m.config(), "") + "\n}"
     out += [line + " \\" for line in body.splitlines()[:-1]] + [body.splitlines()[-1]]
+    if m.law in Q_LAWS:  # the node's parameter table in id order (docs/protocol.md)
+        from .hil.node import NODE_DT_S, model_values
+
+        values = model_values(m, NODE_DT_S) if math.isclose(m.dt_s, NODE_DT_S) else None
+        if values is not None:
+            out += ["", "/* the node's parameters in id order (app/ss_node_params.def) */"]
+            out.append("#define SS_MODEL_NODE_PARAMS \\")
+            items = [f"    {_c_value(v)}, /* {k} */" for k, v in values.items()]
+            out += ["{ \\"] + [i + " \\" for i in items] + ["}"]
     q = m.config_q()
     out.append("")
     if q is None:

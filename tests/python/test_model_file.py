@@ -163,3 +163,53 @@ def test_hil_node_refuses_a_model_it_cannot_serve_before_it_starts(tmp_path, cap
     (tmp_path / "bad.json").write_text("{}")
     assert main(["hil", "node", "--link", "tcp", "--model", str(tmp_path / "bad.json")]) == 2
     assert "format: must be 'stick-slip-model/1'" in capsys.readouterr().err
+
+
+NODE_C = r"""
+#include <stdio.h>
+#include "ss_node_core.h"
+int main(void)
+{
+    static ss_node_core_t core;
+    ss_node_core_init(&core);
+    for (unsigned i = 0; i < SS_NODE_N_PARAMS; ++i) printf("%.9g\n", (double)core.params.value[i]);
+    const unsigned char *p = (const unsigned char *)&core.cfg;
+    for (size_t i = 0; i < sizeof core.cfg; ++i) printf("%02x", p[i]);
+    printf("\n");
+    return 0;
+}
+"""
+
+
+def _node_with_header(tmp_path: Path, m: MF.ModelFile, variant: str) -> subprocess.CompletedProcess:
+    """The node core compiled with the model's header (-DSS_MODEL_HEADER), as the firmware is."""
+    MF.export(m, tmp_path)
+    (tmp_path / "node.c").write_text(NODE_C)
+    srcs = [ROOT / "app" / "ss_node_core.c", ROOT / "app" / f"ss_node_model_{variant}.c"]
+    srcs += sorted((ROOT / "lib" / "src").glob("*.c")) + sorted(
+        (ROOT / "proto" / "src").glob("*.c")
+    )
+    inc = [f"-I{ROOT / d}" for d in ("app", "lib/include", "proto/include")]
+    defs = [f'-DSS_MODEL_HEADER="{tmp_path / "stickslip_model.h"}"']
+    defs += ["-DSS_NODE_MODEL_Q"] if variant == "q" else []
+    exe = tmp_path / "node"
+    cmd = ["cc", "-std=c99", "-D_DEFAULT_SOURCE", *inc, *defs, str(tmp_path / "node.c")]
+    return subprocess.run(
+        [*cmd, *map(str, srcs), "-lm", "-o", str(exe)], capture_output=True, text=True
+    )
+
+
+@pytest.mark.skipif(not shutil.which("cc"), reason="no C compiler")
+def test_a_model_header_compiled_into_the_node_is_its_default(tmp_path):
+    from stickslip.hil.node import NODE_DT_S, model_values
+
+    m = MF.ModelFile(ActuatorParams.table1(), "lugre", Effects(load_n=0.05, slew_v_per_s=3e6))
+    built = _node_with_header(tmp_path, m, "f32")
+    assert built.returncode == 0, built.stderr
+    out = subprocess.run([str(tmp_path / "node")], capture_output=True, text=True).stdout.split()
+    values = [float(v) for v in out[:-1]]
+    assert values == pytest.approx(list(model_values(m, NODE_DT_S).values()), rel=1e-7)
+    assert bytes.fromhex(out[-1]) == bytes(m.config())  # the config the node runs, bit for bit
+    # the fixed-point node cannot run effects: the build says so instead of running without them
+    q = _node_with_header(tmp_path / "q", m, "q")
+    assert q.returncode != 0 and "the fixed-point node cannot run this model" in q.stderr
