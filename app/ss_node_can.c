@@ -115,6 +115,26 @@ static ss_proto_error_t set_wave(ss_node_can_t *n, uint8_t field, float v, ss_no
     return SS_PERR_NONE;
 }
 
+/* Keep one value for APPLY_MODEL (a repeated id replaces its value); checked against its row. */
+static ss_proto_error_t stage_param(ss_node_can_t *n, uint8_t id, float v, ss_node_refusal_t *why)
+{
+    float probe = 0.0f;
+    if (ss_node_core_get_param(&n->core, id, &probe, why) != SS_PERR_NONE) {
+        return SS_PERR_UNKNOWN_PARAM;
+    }
+    if (!isfinite(v)) {
+        return refuse(why, SS_PERR_NON_FINITE, ss_node_core_param_def(id)->name, "not a finite number");
+    }
+    uint32_t i = 0;
+    while (i < n->n_staged && n->staged_ids[i] != id) {
+        ++i;
+    }
+    n->staged_ids[i] = id; /* i < SS_NODE_N_PARAMS: one slot per id */
+    n->staged_values[i] = v;
+    n->n_staged = (i == n->n_staged) ? n->n_staged + 1u : n->n_staged;
+    return SS_PERR_NONE;
+}
+
 static void command(ss_node_can_t *n, const ss_can_cmd_t *c)
 {
     ss_node_refusal_t why = {"", ""};
@@ -123,6 +143,7 @@ static void command(ss_node_can_t *n, const ss_can_cmd_t *c)
     if (c->cmd == SS_CAN_CMD_HELLO) {
         ss_node_core_hello(&n->core, c->seq);
         n->have_drive_seq = 0;
+        n->n_staged = 0u;
         /* index: model + 16 x variant (a float node answers as before) */
         const uint8_t id = (uint8_t)((uint32_t)n->core.cfg.friction_model + 16u * SS_NODE_VARIANT);
         reply(n, c->cmd, c->seq, SS_PERR_NONE, id, ss_node_model_dt_s(&n->core.cfg));
@@ -139,10 +160,20 @@ static void command(ss_node_can_t *n, const ss_can_cmd_t *c)
     switch (c->cmd) {
     case SS_CAN_CMD_GET_PARAM: e = ss_node_core_get_param(&n->core, c->index, &value, &why); break;
     case SS_CAN_CMD_SET_PARAM:
+        if ((c->flags & 1u) != 0u) {
+            e = stage_param(n, c->index, c->value, &why);
+            value = c->value;
+            break;
+        }
         e = ss_node_core_set_param(&n->core, c->index, c->value, &why);
         if (e == SS_PERR_NONE) {
             (void)ss_node_core_get_param(&n->core, c->index, &value, &why);
         }
+        break;
+    case SS_CAN_CMD_APPLY_MODEL:
+        e = ss_node_core_set_params(&n->core, n->staged_ids, n->staged_values, n->n_staged, &why);
+        value = (float)n->n_staged;
+        n->n_staged = 0u; /* applied or refused: the next model is staged afresh */
         break;
     case SS_CAN_CMD_RESET: e = ss_node_core_reset(&n->core, c->value, &why); break;
     case SS_CAN_CMD_SET_WAVE: e = set_wave(n, c->index, c->value, &why); break;
@@ -208,6 +239,7 @@ void ss_node_can_init(ss_node_can_t *n, const ss_port_can_t *can)
     n->can = can;
     n->wave_pending = ss_waveform_paper_f32();
     n->have_drive_seq = 0;
+    n->n_staged = 0u;
     ss_node_core_init(&n->core);
 }
 

@@ -23,6 +23,10 @@ typedef struct {
     const ss_port_can_t *can;
     ss_waveform_config_f32_t wave_pending; /* SET_WAVE fields until LOAD_WAVE */
     uint8_t drive_seq, have_drive_seq;     /* last lock-step drive frame */
+    /* SET_PARAM with flags bit 0 stages a value; APPLY_MODEL applies the set (SET_MODEL's rules) */
+    uint8_t staged_ids[SS_NODE_N_PARAMS];
+    float staged_values[SS_NODE_N_PARAMS];
+    uint32_t n_staged;
 } ss_node_can_t;
 
 /* Table I parameters, LS friction, at rest; SET_WAVE starts from the paper's drive. */

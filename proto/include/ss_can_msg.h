@@ -25,7 +25,8 @@ enum {
     SS_CAN_CMD_LOAD_WAVE = 6,
     SS_CAN_CMD_RUN = 7,
     SS_CAN_CMD_STOP = 8,
-    SS_CAN_CMD_DRIVE = 0x10 /* not a command: the cmd of an SS_REPLY refusing an SS_DRIVE frame */
+    SS_CAN_CMD_APPLY_MODEL = 9, /* apply the parameters staged by SET_PARAM with flags bit 0 */
+    SS_CAN_CMD_DRIVE = 0x10     /* not a command: the cmd of an SS_REPLY refusing an SS_DRIVE frame */
 };
 
 typedef struct {

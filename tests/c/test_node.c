@@ -565,6 +565,26 @@ static void test_can_refusal_sends_its_reason(void **unused)
     assert_int_equal(can_out_n, 1);
 }
 
+/* SET_PARAM with flags 1 stages, APPLY_MODEL applies the set: all or none, staging cleared. */
+static void test_can_model_staged_then_applied(void **unused)
+{
+    (void)unused;
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_PARAM, 1, SS_NODE_P_LOAD, 1, 0.3f).status, 0);
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_PARAM, 2, SS_NODE_P_HALPHA, 1, 0.2f).status, 0);
+    assert_true(can_node.core.cfg.effects.load_n == 0.0f); /* staged, not applied */
+    ss_can_reply_t r = can_cmd(SS_CAN_CMD_APPLY_MODEL, 3, 0, 0, 0.0f);
+    assert_int_equal(r.status, SS_PERR_OUT_OF_RANGE); /* a hysteresis without its width */
+    assert_true(can_node.core.cfg.effects.load_n == 0.0f && can_node.n_staged == 0u);
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_PARAM, 4, SS_NODE_P_LOAD, 1, 0.1f).status, 0);
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_PARAM, 5, SS_NODE_P_LOAD, 1, 0.05f).status, 0); /* replaces */
+    assert_int_equal(can_cmd(SS_CAN_CMD_SET_PARAM, 6, 99, 1, 1.0f).status, SS_PERR_UNKNOWN_PARAM);
+    r = can_cmd(SS_CAN_CMD_APPLY_MODEL, 7, 0, 0, 0.0f);
+    assert_int_equal(r.status, 0);
+    assert_true(r.value == 1.0f && can_node.core.cfg.effects.load_n == 0.05f);
+    /* nothing staged: nothing to apply, said so */
+    assert_int_equal(can_cmd(SS_CAN_CMD_APPLY_MODEL, 8, 0, 0, 0.0f).status, SS_PERR_BAD_PAYLOAD);
+}
+
 static void test_can_lockstep_busy_and_traffic(void **unused)
 {
     (void)unused;
@@ -638,6 +658,7 @@ int main(void)
         cmocka_unit_test(test_refused_waveform_names_its_field),
         cmocka_unit_test_setup(test_can_commands, setup_can),
         cmocka_unit_test_setup(test_can_refusal_sends_its_reason, setup_can),
+        cmocka_unit_test_setup(test_can_model_staged_then_applied, setup_can),
         cmocka_unit_test_setup(test_can_lockstep_busy_and_traffic, setup_can),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -167,3 +167,22 @@ def test_fixed_point_node_over_slcan_says_so_and_runs_the_q_model():
         tel = c.lockstep(r.drive_v[1:401], decimation=1)  # Q16.16 drive values: exact in f32
         assert np.array_equal(f32(tel.x_rod_m), f32(r.x_rod_m[1:401]))
         assert np.array_equal(tel.x_slider_m, r.x_slider_m[1:401])  # hi + lo: the q position
+
+
+def test_a_model_with_effects_goes_in_over_can_all_or_nothing():
+    # issue 16: SET_PARAM with flags 1 stages, APPLY_MODEL applies the set (the serial SET_MODEL)
+    from stickslip.model import ActuatorParams, Effects
+    from stickslip.model_file import ModelFile
+
+    m = ModelFile(ActuatorParams.table1(), "lugre", Effects(load_n=0.05, slew_v_per_s=3e6))
+    w = Sawtooth(cycles=1)
+    r = simulate(w, m.params, model=m.law, effects=m.effects)
+    with HostNode("can-tcp") as n, CanNodeClient(n.url) as c:
+        with pytest.raises(NodeError, match="model: effects.hysteresis_width_m"):
+            c.set_model({"load_n": 0.3, "hysteresis_alpha": 0.2})  # a hysteresis needs its width
+        assert c.get("load_n") == 0.0  # nothing of the refused set
+        c.load_model(m)
+        assert c.get("load_n") == pytest.approx(0.05) and c.get("friction_model") == 1.0
+        c.reset(float(r.drive_v[0]))
+        tel = c.lockstep(r.drive_v[1:401])
+    assert np.array_equal(f32(tel.x_slider_m), f32(r.x_slider_m[1:401]))

@@ -28,6 +28,7 @@ from .node import (
     StepProgress,
     Telemetry,
     check_socket_url,
+    model_values,
     naming_sent_value,
 )
 
@@ -41,6 +42,7 @@ CMD = {
     "LOAD_WAVE": 6,
     "RUN": 7,
     "STOP": 8,
+    "APPLY_MODEL": 9,
 }
 DRIVE_CMD = 0x10  # replies about lock-step drive frames
 WAVE_FIELDS = ["frequency_hz", "amplitude_v", "offset_v", "rise_fraction", "direction", "cycles"]
@@ -192,13 +194,16 @@ class CanNodeClient:
             n: ParamInfo(i, n, self.get(i), math.nan, math.nan) for i, n in enumerate(P.PARAM_NAMES)
         }
 
+    def set_model(self, values: dict[str, float]) -> int:
+        """Every parameter given at once (docs/protocol.md, the CAN link: SET_PARAM with flags 1
+        stages a value, APPLY_MODEL applies the staged set, all or none); returns how many."""
+        for k, v in values.items():
+            self.request("SET_PARAM", index=self._id(k), flags=1, value=float(v))
+        return _steps_done("APPLY_MODEL", self.request("APPLY_MODEL")["value"])
+
     def load_model(self, model: ModelFile) -> None:
-        """Not over CAN yet: it sets one parameter at a time, and a model's effects must go in
-        together (docs/protocol.md, SET_MODEL). Start the node with the model instead."""
-        raise HilError(
-            "the CAN link has no SET_MODEL yet: start the node with the model "
-            "(stickslip_node --can-tcp 0 --set ..., stickslip.hil.node.model_args)"
-        )
+        """The node runs `model` from now on (model_values: every parameter, effects included)."""
+        self.set_model(model_values(model, self.info.dt_s))
 
     def reset(self, drive0_v: float = 0.0) -> None:
         self.request("RESET", value=drive0_v)
