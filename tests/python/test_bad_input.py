@@ -745,3 +745,24 @@ def test_the_can_decoder_names_a_step_count_that_is_not_one():
     c.stats, c.info = LinkStats(), NodeInfo(P.VERSION, "ls", "f32", 13, 1e-6, "test")
     with pytest.raises(BadReplyError, match="RUN.*steps done nan, not a whole number"):
         c.run(5)
+
+
+def test_a_million_row_run_is_filtered_and_decimated_before_any_fit():
+    # a 1e6-row run at 1 MS/s took the diagnosis past 5 minutes: the fits now see it at 50 kS/s
+    # (about 27 s for a 1.2 M-row dataset, BENCHMARKS.md), through an anti-alias filter
+    import numpy as np
+
+    from stickslip import dataset as D
+    from stickslip.diagnosis.fit import MAX_FIT_RATE_HZ, prepare
+
+    n, dt = 1_000_000, 1e-6
+    t = np.arange(n) * dt
+    slow = 1e-6 * np.sin(2 * np.pi * 1e3 * t)  # what a fit must see (a 1 kHz motion)
+    alias = 1e-7 * np.sin(2 * np.pi * 170e3 * t)  # above the 25 kHz Nyquist of 50 kS/s
+    run = D.Run("r", None, t, np.zeros(n), slow + alias, None, {})  # type: ignore[arg-type]
+    fr = prepare(run)
+    assert fr.dt_s == pytest.approx(1.0 / MAX_FIT_RATE_HZ) and len(fr.x_m) == n // 20
+    ref = slow[::20][: len(fr.x_m)]
+    inner = slice(100, -100)  # away from the filter's ends
+    # the 170 kHz tone would fold to 20 kHz at full size (100 nm); filtered: below 1 nm
+    assert np.max(np.abs(fr.x_m[inner] - ref[inner])) < 1e-9
