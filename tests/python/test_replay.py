@@ -88,3 +88,24 @@ def test_replay_of_chosen_runs_and_a_run_that_is_not_there(stage, capsys):
     assert "f500_-1" in out and "f500_1 " not in out
     assert main(["hil", "replay", str(ds.path), "--model", str(path), "--runs", "f100"]) == 2
     assert "runs ['f100'] are not in" in capsys.readouterr().err
+
+
+def test_replay_on_the_fixed_point_node_and_the_m0plus_image(tmp_path):
+    # a base model (the q family runs no effects): the q node on the host and the ARMv6-M image
+    # in QEMU give the same figures bit for bit (integer arithmetic); against the float node the
+    # replay error moves by at most 4 cycles x 0.117 nm, the q family's per-cycle step error at
+    # 500 Hz, 100 V (docs/fixed-point.md); measured 4e-5 nm
+    need_firmware("qemu-m0plus-q")
+    truth = synth.Truth(ActuatorParams.table1())
+    design = [synth.RunDesign(f"f500_{d}", 500.0, 100.0, d, 4) for d in (1, -1)]
+    ds = D.load(synth.generate(tmp_path / "ds", truth, seed=3, design=design))
+    m = ModelFile(truth.params)
+    with HostNode("tcp") as n, NodeClient(n.url) as c:
+        f = replay(c, ds, m)
+    with HostNode("tcp", "q") as n, NodeClient(n.url) as c:
+        q = replay(c, ds, m)
+    with QemuNode("qemu-m0plus-q") as n, NodeClient(n.url, timeout_s=30) as c:
+        m0 = replay(c, ds, m)
+    assert m0["runs"] == q["runs"] and q["node"]["variant"] == "q"
+    for a, b in zip(q["runs"], f["runs"]):
+        assert abs(a["rmse_m"] - b["rmse_m"]) < 4 * 0.117e-9
