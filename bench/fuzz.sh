@@ -8,7 +8,7 @@
 #                  for the float32 node and the fixed-point one.
 #   bash bench/fuzz.sh [SECONDS] [TARGET...]   (default 60 s, every target; needs clang-14 and
 #                                               libclang-rt-14-dev)
-#   FUZZ_RUNS=10000000 bash bench/fuzz.sh 7200 parsers   (stop after that many executions)
+#   FUZZ_RUNS=5000000 FUZZ_JOBS=2 bash bench/fuzz.sh 7200 parsers   (2 processes, 5 M executions each)
 # Corpora persist in build/fuzz/<target>/corpus; a run fails when any target leaves an artifact.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -50,14 +50,20 @@ for t in "${targets[@]}"; do
       ;;
     *) echo "fuzz: unknown target '$t' (parsers, node_core_f32, node_core_q)" >&2; exit 2 ;;
   esac
-  "$out/fuzz" -max_total_time="$secs" ${FUZZ_RUNS:+-runs=$FUZZ_RUNS} -print_final_stats=1 -artifact_prefix="$out/crashes/" "$out/corpus" \
-    > "$out/fuzz.log" 2>&1 || true
+  # FUZZ_JOBS processes share the corpus (each its own log, FUZZ_RUNS executions each)
+  jobs=${FUZZ_JOBS:-1}
+  t0=$(date +%s)
+  for ((k = 0; k < jobs; k++)); do
+    "$out/fuzz" -max_total_time="$secs" ${FUZZ_RUNS:+-runs=$FUZZ_RUNS} -print_final_stats=1 \
+      -artifact_prefix="$out/crashes/" "$out/corpus" > "$out/fuzz.$k.log" 2>&1 &
+  done
+  wait || true
+  cat "$out"/fuzz.*.log > "$out/fuzz.log"
   grep -E "ERROR|SUMMARY|runtime error" "$out/fuzz.log" | head -5 || true
   crashes=$(find "$out/crashes" -type f | wc -l)
-  execs=$(grep -oE "stat::number_of_executed_units: [0-9]+" "$out/fuzz.log" | grep -oE "[0-9]+$" || echo 0)
+  execs=$(grep -oE "stat::number_of_executed_units: [0-9]+" "$out/fuzz.log" | grep -oE "[0-9]+$" | awk '{s += $1} END {print s + 0}')
   line=$(grep -E "^#[0-9]+[[:space:]]+DONE" "$out/fuzz.log" | tail -1 || true)
-  took=$(grep -oE "Done [0-9]+ runs in [0-9]+ second" "$out/fuzz.log" | grep -oE "[0-9]+ second" || echo "$secs")
-  echo "fuzz $t: $execs executions in ${took% second} s, $crashes findings (artifacts in $out/crashes); ${line#*DONE }"
+  echo "fuzz $t: ${execs:-0} executions in $(($(date +%s) - t0)) s ($jobs process(es)), $crashes findings (artifacts in $out/crashes); ${line#*DONE }"
   [ "$crashes" -eq 0 ] || status=1
 done
 exit $status
