@@ -597,3 +597,30 @@ def friction_run(model: str, fcfg: FrictionConfig, dx: np.ndarray, dt_s: float) 
 def stribeck(fcfg: FrictionConfig, v_m_per_s: np.ndarray) -> np.ndarray:
     """The Stribeck curve g(v) of the library (N) at each velocity."""
     return np.array([lib.ss_stribeck_f32(C.byref(fcfg), float(v)) for v in np.ravel(v_m_per_s)])
+
+
+# ---------------------------------------------------------------- C source for a struct
+
+
+def c_value(v: object) -> str:
+    if isinstance(v, float):  # the float32 the struct holds, in the shortest digits that read back
+        text = str(np.float32(v))
+        return text + ("f" if any(c in text for c in ".e") else ".0f")
+    return str(int(v))  # type: ignore[call-overload]
+
+
+def c_initializer(s: C.Structure, indent: str) -> str:
+    """A C99 designated initialiser of a ctypes mirror of a library struct, field by field
+    (model_file.c_header)."""
+    lines = []
+    for name, *_ in s._fields_:
+        v = getattr(s, name)
+        if isinstance(v, C.Structure):
+            body = c_initializer(v, indent + "    ")
+            lines.append(f"{indent}    .{name} = {{\n{body}\n{indent}    }},")
+        elif isinstance(v, C.Array):
+            items = ", ".join(c_value(x) for x in v)
+            lines.append(f"{indent}    .{name} = {{{items}}},")
+        else:
+            lines.append(f"{indent}    .{name} = {c_value(v)},")
+    return "\n".join(lines)

@@ -8,13 +8,10 @@ fault; the C library's own check has the last word."""
 
 from __future__ import annotations
 
-import ctypes as C
 import json
 import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
-
-import numpy as np
 
 from . import _native as N
 from .model import DT_S, ActuatorParams, Effects
@@ -139,29 +136,6 @@ def save(m: ModelFile, path: str | Path) -> Path:
 # ------------------------------------------------------------------ the C header
 
 
-def _c_value(v: object) -> str:
-    if isinstance(v, float):  # the float32 the struct holds, in the shortest digits that read back
-        text = str(np.float32(v))
-        return text + ("f" if any(c in text for c in ".e") else ".0f")
-    return str(int(v))  # type: ignore[call-overload]
-
-
-def _c_initializer(s: C.Structure, indent: str) -> str:
-    """A C99 designated initialiser of a ctypes mirror, field by field."""
-    lines = []
-    for name, *_ in s._fields_:
-        v = getattr(s, name)
-        if isinstance(v, C.Structure):
-            body = _c_initializer(v, indent + "    ")
-            lines.append(f"{indent}    .{name} = {{\n{body}\n{indent}    }},")
-        elif isinstance(v, C.Array):
-            items = ", ".join(_c_value(x) for x in v)
-            lines.append(f"{indent}    .{name} = {{{items}}},")
-        else:
-            lines.append(f"{indent}    .{name} = {_c_value(v)},")
-    return "\n".join(lines)
-
-
 def c_header(m: ModelFile, guard: str = "SS_MODEL_H") -> str:
     """A header defining SS_MODEL_CONFIG_F32 (and SS_MODEL_CONFIG_Q where that family can run the
     model) as initialisers: `ss_actuator_config_f32_t cfg = SS_MODEL_CONFIG_F32;`."""
@@ -179,7 +153,7 @@ def c_header(m: ModelFile, guard: str = "SS_MODEL_H") -> str:
         "/* ss_actuator_config_f32_t */",
         "#define SS_MODEL_CONFIG_F32 \\",
     ]
-    body = "{\n" + _c_initializer(m.config(), "") + "\n}"
+    body = "{\n" + N.c_initializer(m.config(), "") + "\n}"
     out += [line + " \\" for line in body.splitlines()[:-1]] + [body.splitlines()[-1]]
     if m.law in Q_LAWS:  # the node's parameter table in id order (docs/protocol.md)
         from .hil.node import NODE_DT_S, model_values
@@ -188,7 +162,7 @@ def c_header(m: ModelFile, guard: str = "SS_MODEL_H") -> str:
         if values is not None:
             out += ["", "/* the node's parameters in id order (app/ss_node_params.def) */"]
             out.append("#define SS_MODEL_NODE_PARAMS \\")
-            items = [f"    {_c_value(v)}, /* {k} */" for k, v in values.items()]
+            items = [f"    {N.c_value(v)}, /* {k} */" for k, v in values.items()]
             out += ["{ \\"] + [i + " \\" for i in items] + ["}"]
     q = m.config_q()
     out.append("")
@@ -200,7 +174,7 @@ def c_header(m: ModelFile, guard: str = "SS_MODEL_H") -> str:
     else:
         out += ['#include "ss_actuator_q.h"', "", "/* ss_actuator_config_q_t */"]
         out.append("#define SS_MODEL_CONFIG_Q \\")
-        body = "{\n" + _c_initializer(q, "") + "\n}"
+        body = "{\n" + N.c_initializer(q, "") + "\n}"
         out += [line + " \\" for line in body.splitlines()[:-1]] + [body.splitlines()[-1]]
     out += ["", f"#endif /* {guard} */", ""]
     return "\n".join(out)

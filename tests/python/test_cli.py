@@ -126,7 +126,17 @@ def test_json_means_the_same_on_every_subcommand():
             if "--json" in action.option_strings:
                 seen.append(name)
                 assert (action.nargs, action.const, action.default) == ("?", "-", None), name
-    assert set(seen) == {"simulate", "figures", "diagnose", "run", "position", "firmware-q"}
+    assert set(seen) == {
+        "simulate",
+        "figures",
+        "diagnose",
+        "run",
+        "position",
+        "firmware-q",
+        "replay",
+        "export",
+        "check",
+    }
 
 
 def test_json_to_a_file_keeps_the_summary_and_dash_is_stdout(capsys, tmp_path):
