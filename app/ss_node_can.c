@@ -118,12 +118,12 @@ static ss_proto_error_t set_wave(ss_node_can_t *n, uint8_t field, float v, ss_no
 /* Keep one value for APPLY_MODEL (a repeated id replaces its value); checked against its row. */
 static ss_proto_error_t stage_param(ss_node_can_t *n, uint8_t id, float v, ss_node_refusal_t *why)
 {
-    float probe = 0.0f;
-    if (ss_node_core_get_param(&n->core, id, &probe, why) != SS_PERR_NONE) {
-        return SS_PERR_UNKNOWN_PARAM;
+    const ss_node_param_def_t *def = ss_node_core_param_def(id);
+    if (def == NULL) {
+        return refuse(why, SS_PERR_UNKNOWN_PARAM, "no parameter with that id", "");
     }
     if (!isfinite(v)) {
-        return refuse(why, SS_PERR_NON_FINITE, ss_node_core_param_def(id)->name, "not a finite number");
+        return refuse(why, SS_PERR_NON_FINITE, def->name, "not a finite number");
     }
     uint32_t i = 0;
     while (i < n->n_staged && n->staged_ids[i] != id) {

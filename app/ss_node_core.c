@@ -267,20 +267,10 @@ ss_proto_error_t ss_node_core_reset(ss_node_core_t *c, float drive0_v, ss_node_r
     return SS_PERR_NONE;
 }
 
-/* The sawtooth's fields in LOAD_WAVEFORM's order (the CAN SET_WAVE index) with the library's
- * ranges (ss_waveform.h), so that a refusal names the field at fault and what it accepts. */
-static const char *const WAVE_FIELDS[SS_NODE_N_WAVE_FIELDS] = {"frequency_hz",  "amplitude_v", "offset_v",
-                                                               "rise_fraction", "direction",   "cycles"};
-
-int ss_node_core_wave_field(const char *what)
-{
-    for (int i = 0; i < (int)SS_NODE_N_WAVE_FIELDS; ++i) {
-        if (strcmp(what, WAVE_FIELDS[i]) == 0) {
-            return i;
-        }
-    }
-    return -1;
-}
+/* The sawtooth's fields as LOAD_WAVEFORM (and CAN SET_WAVE) name them, with the library's ranges
+ * (ss_waveform.h), so that a refusal names the field at fault and what it accepts. */
+static const char *const WAVE_FIELDS[5] = {"frequency_hz", "amplitude_v", "offset_v", "rise_fraction",
+                                           "direction"};
 
 static ss_proto_error_t check_wave(const ss_waveform_config_f32_t *w, ss_node_refusal_t *why)
 {

@@ -101,10 +101,7 @@ ss_proto_error_t ss_node_core_set_params(ss_node_core_t *core, const uint8_t *id
 /* The model at rest at drive0_v; the waveform restarts at t = 0. */
 ss_proto_error_t ss_node_core_reset(ss_node_core_t *core, float drive0_v, ss_node_refusal_t *why);
 /* Checks and loads a sawtooth; the model goes to rest at its start. A field out of range is
- * refused with the field's name as why->what (ss_node_core_wave_field gives its index: the order
- * of LOAD_WAVEFORM's payload, and the CAN SET_WAVE index). */
-#define SS_NODE_N_WAVE_FIELDS 6u
-int ss_node_core_wave_field(const char *what); /* 0..5, or -1 when what is no field's name */
+ * refused with the field's name as why->what ("frequency_hz") and its range as why->why. */
 ss_proto_error_t ss_node_core_load_waveform(ss_node_core_t *core, const ss_waveform_config_f32_t *w,
                                             ss_node_refusal_t *why);
 /* One lock-step step to drive_v (refused if not finite or outside SS_NODE_MAX_DRIVE_V). */

@@ -34,8 +34,6 @@ ss_node_config_t ss_node_model_default_config(void)
     return ss_actuator_config_table1_q(); /* integer constants: the same on every target */
 }
 
-/* Through the host converter (double and libm), so a target matches the host to the bit only where
- * both round the same (docs/fixed-point.md). */
 /* The converter refuses any effect by its field name; say why (the q family has none yet). */
 #define SS_NO_Q(field)                                                                                       \
     {                                                                                                        \
@@ -63,6 +61,8 @@ static const char *no_effects_reason(const char *field)
 }
 #undef SS_NO_Q
 
+/* Through the host converter (double and libm), so a target matches the host to the bit only where
+ * both round the same (docs/fixed-point.md). */
 ss_status_t ss_node_model_config(const ss_actuator_config_f32_t *f, ss_node_config_t *out, const char **why)
 {
     ss_status_t st = ss_actuator_config_check_f32(f, why); /* out of range: the float family's words */

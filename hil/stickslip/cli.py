@@ -309,8 +309,21 @@ def cmd_hil_node(a: argparse.Namespace) -> int:
     return 0  # not reached
 
 
+def _start_node(stack: contextlib.ExitStack, node_link: str, can: bool = False) -> str:
+    """Start the node --node-link names (the host node, or the firmware in QEMU) in stack, which
+    stops it whatever happens; its URL."""
+    from .hil.client import HostNode, QemuNode
+
+    if node_link.startswith("qemu-"):
+        if can:
+            raise CliError("the firmware serves the serial link only; use --link serial")
+        return stack.enter_context(QemuNode(node_link)).url
+    host_link, _, variant = node_link.partition("-")
+    return stack.enter_context(HostNode(("can-" if can else "") + host_link, variant or "f32")).url
+
+
 def cmd_hil_run(a: argparse.Namespace) -> int:
-    from .hil.client import HostNode, NodeClient
+    from .hil.client import NodeClient
     from .hil.session import node_params, play, record, run_budget, summary
 
     w = _waveform(a)
@@ -319,18 +332,7 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
     if a.decimation < 1:
         raise CliError(f"--decimation: must be >= 1, got {a.decimation}")
     with contextlib.ExitStack() as stack:
-        url = a.url
-        if url is None:  # start a node here; the stack stops it whatever happens
-            if a.node_link.startswith("qemu-"):
-                if a.link == "can":
-                    raise CliError("the firmware serves the serial link only; use --link serial")
-                from .hil.client import QemuNode
-
-                url = stack.enter_context(QemuNode(a.node_link)).url
-            else:
-                host_link, _, variant = a.node_link.partition("-")
-                link = ("can-" if a.link == "can" else "") + host_link
-                url = stack.enter_context(HostNode(link, variant or "f32")).url
+        url = a.url if a.url is not None else _start_node(stack, a.node_link, a.link == "can")
         if a.link == "can":
             from .hil.can_client import CanNodeClient
 
@@ -357,20 +359,14 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
 
 def cmd_hil_replay(a: argparse.Namespace) -> int:
     from . import dataset as D
-    from .hil.client import HostNode, NodeClient, QemuNode
+    from .hil.client import NodeClient
     from .hil.replay import replay
     from .model_file import load as load_model
 
     m = load_model(a.model)
     ds = D.load(a.dataset)
     with contextlib.ExitStack() as stack:
-        url = a.url
-        if url is None:
-            if a.node_link.startswith("qemu-"):
-                url = stack.enter_context(QemuNode(a.node_link)).url
-            else:
-                host_link, _, variant = a.node_link.partition("-")
-                url = stack.enter_context(HostNode(host_link, variant or "f32")).url
+        url = a.url if a.url is not None else _start_node(stack, a.node_link)
         with NodeClient(url) as c, Progress("replay", total=None, quiet=a.quiet) as bar:
             r = replay(c, ds, m, say=bar.status, only=a.runs)
     runs = "\n".join(

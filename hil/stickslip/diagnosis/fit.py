@@ -182,10 +182,14 @@ def predict(run: FitRun, model: Model) -> np.ndarray:
     x = r.x_meas_m
     if len(x) < n + 1:  # rounding of the duration: hold the last value
         x = np.concatenate([x, np.full(n + 1 - len(x), x[-1])])
-    x = x[: n + 1]
-    # Where the slider started is known only to the sensor's noise: placing it from the first
-    # samples alone left their mean noise (~0.7 nm from 10 samples) as an offset in every
-    # residual, and fits then bent the physical parameters to chase it.
+    return placed(run, x[: n + 1])
+
+
+def placed(run: FitRun, x: np.ndarray) -> np.ndarray:
+    """Simulated positions x shifted to where the run's slider started, by least squares over the
+    whole run. That start is known only to the sensor's noise: placing it from the first samples
+    alone left their mean noise (~0.7 nm from 10 samples) as an offset in every residual, and fits
+    then bent the physical parameters to chase it."""
     return x + float(np.mean(run.x_m - x))
 
 

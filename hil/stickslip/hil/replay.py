@@ -2,8 +2,9 @@
 the node's slider positions against the measured ones, the error computed as the diagnosis
 computes its validation error (stickslip.diagnosis.fit.evaluate): at the fit's samples (the
 measured positions anti-alias filtered to at most 50 kS/s), with each run's start placed by least
-squares. A float32 host node then reproduces the diagnosis' figure bit for bit: it steps the same
-C model with the same drive samples as the batch simulation the fits ran."""
+squares (fit.placed). A float32 host node steps the same C model with the same drive samples as
+the batch simulation the fits ran; the figures differ only through where the slider starts (0 on
+the node, the first measured position in the fit): 1e-5 relative, tests/python/test_replay.py."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import dataset as D
-from ..diagnosis.fit import FitRun, prepare_all, sim_step_s
+from ..diagnosis.fit import FitRun, placed, prepare_all, sim_step_s
 from ..model import drive_samples
 from ..model_file import ModelFile
 from . import protocol as P
@@ -41,9 +42,8 @@ def _drive(run: FitRun, dt_s: float, steps: int) -> np.ndarray:
 
 def replay_run(
     client: NodeSession, run: FitRun, model: ModelFile, progress: StepProgress = None
-) -> tuple[ReplayedRun, np.ndarray]:
-    """One run through the node in lock-step: its error, and the positions it made (at the fit's
-    samples, offset placed)."""
+) -> ReplayedRun:
+    """One run through the node in lock-step, and its error at the fit's samples."""
     dt, dec = sim_step_s(run)
     if not math.isclose(dt, client.info.dt_s, rel_tol=1e-6):
         raise HilError(
@@ -59,10 +59,9 @@ def replay_run(
     tel = client.lockstep(drive[1:], block=dec * rows_per_block, decimation=dec, progress=progress)
     x = np.concatenate([[0.0], tel.x_slider_m])[: n + 1]
     x = x * (1.0 + model.effects.sensor_scale_error)  # what the sensor reports (x_meas_m)
-    x = x + float(np.mean(run.x_m - x))
-    r = x - run.x_m
+    r = placed(run, x) - run.x_m
     rss = float(np.sum(r**2))
-    return ReplayedRun(run.id, float(np.sqrt(rss / len(r))), len(r), rss), x
+    return ReplayedRun(run.id, float(np.sqrt(rss / len(r))), len(r), rss)
 
 
 def replay(
@@ -90,7 +89,7 @@ def replay(
     done: list[ReplayedRun] = []
     for run in runs:
         say(f"replaying {run.id}")
-        done.append(replay_run(client, run, model, progress)[0])
+        done.append(replay_run(client, run, model, progress))
     val = [r for r in done if r.id in val_ids]
 
     def rms(rs: list[ReplayedRun]) -> float | None:
