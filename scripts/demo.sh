@@ -20,11 +20,11 @@ if command -v qemu-system-arm >/dev/null && [ -f build/cortex-m4f/fw/stickslip_f
 fi
 echo "demo: replaying the validation runs against the identified model on the $link node"
 .venv/bin/stickslip hil replay examples/hidden-effect --model out/model/model.json --runs validation \
-  --node-link "$link" --json out/replay.json
+  --node-link "$link" --json out/replay.json --report out/replay
 echo
 echo "demo: figures in out/figures/ (PNG, with the numbers behind them in figures.json)"
 echo "demo: the LS staircase in out/staircase.csv, its summary in out/staircase.json:"
 .venv/bin/python -c "import json; s = json.load(open('out/staircase.json')); print(f\"  mean step {s['mean_step_per_cycle_m'] * 1e6:.3f} um per cycle over {s['waveform']['cycles']} cycles\")"
 .venv/bin/python -c "import json; s = json.load(open('out/staircase_q.json')); print(f\"  fixed point (out/staircase_q.csv): {s['mean_step_per_cycle_m'] * 1e6:.3f} um per cycle\")"
 echo "demo: the diagnosis report is out/diagnosis/report.md (plots beside it), its JSON out/diagnosis.json"
-echo "demo: the identified model in out/model/ (model.json, stickslip_model.h for firmware); replay figures in out/replay.json"
+echo "demo: the identified model in out/model/ (model.json, stickslip_model.h for firmware); replay figures in out/replay.json, its report in out/replay/report.md"

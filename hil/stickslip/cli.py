@@ -365,10 +365,18 @@ def cmd_hil_replay(a: argparse.Namespace) -> int:
 
     m = load_model(a.model)
     ds = D.load(a.dataset)
+    if a.report:
+        _check_writable(a.report, "--report", folder=True)
+    traces: list = []
     with contextlib.ExitStack() as stack:
         url = a.url if a.url is not None else _start_node(stack, a.node_link)
         with NodeClient(url) as c, Progress("replay", total=None, quiet=a.quiet) as bar:
-            r = replay(c, ds, m, say=bar.status, only=a.runs)
+            r = replay(c, ds, m, say=bar.status, only=a.runs, traces=traces)
+    report = ""
+    if a.report:
+        from .hil.replay_report import write_report
+
+        report = f"\nreport: {write_report(r, traces, a.report)}"
     runs = "\n".join(
         f"  {x['id']:24s} {x['rmse_m'] * 1e9:8.3f} nm ({x['rows']} samples)" for x in r["runs"]
     )
@@ -382,7 +390,7 @@ def cmd_hil_replay(a: argparse.Namespace) -> int:
         a,
         r,
         f"replay of {a.dataset} on {r['node']['variant']} node {url}:\n{runs}\n"
-        f"all runs {r['rmse_m'] * 1e9:.3f} nm RMS{against}",
+        f"all runs {r['rmse_m'] * 1e9:.3f} nm RMS{against}{report}",
     )
     return 0
 
@@ -706,6 +714,7 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="ID",
         help="replay these runs only ('validation': the model's validation runs)",
     )
+    hy.add_argument("--report", metavar="DIR", help="write report.md and a figure per run into DIR")
     _add_json_option(hy, "the replay's figures")
     _add_quiet_option(hy)
     hy.set_defaults(func=cmd_hil_replay)

@@ -71,9 +71,15 @@ def test_replay_on_the_firmware_in_qemu_matches_the_host(stage):
 
 def test_replay_command_writes_its_figures(stage, tmp_path, capsys):
     ds, m, path = stage
-    out = tmp_path / "replay.json"
-    assert main(["hil", "replay", str(ds.path), "--model", str(path), "--json", str(out)]) == 0
+    out, rep = tmp_path / "replay.json", tmp_path / "report"
+    argv = ["hil", "replay", str(ds.path), "--model", str(path), "--json", str(out)]
+    assert main([*argv, "--report", str(rep)]) == 0
     j = json.loads(out.read_text())
+    # the report: every run's figure, and its error as the JSON has it
+    md = (rep / "report.md").read_text()
+    for r in j["runs"]:
+        assert (rep / f"positions_{r['id']}.png").stat().st_size > 10_000
+        assert f"| {r['id']} | {r['rmse_m'] * 1e9:.3f} nm | {r['rows']} |" in md
     assert [r["id"] for r in j["runs"]] == ["f500_1", "f500_-1"]
     assert all(set(r) == {"id", "rmse_m", "rows"} for r in j["runs"])
     assert j["validation_rmse_m"] == pytest.approx(j["runs"][1]["rmse_m"])

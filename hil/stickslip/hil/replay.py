@@ -27,6 +27,9 @@ class ReplayedRun:
     rmse_m: float
     rows: int
     rss_m2: float  # sum of squared residuals (the aggregate's share)
+    t_s: np.ndarray  # the fit's sample times
+    measured_m: np.ndarray  # the measured positions at them (anti-alias filtered)
+    node_m: np.ndarray  # what the node's sensor reported, placed where the run started
 
 
 def _drive(run: FitRun, dt_s: float, steps: int) -> np.ndarray:
@@ -59,9 +62,10 @@ def replay_run(
     tel = client.lockstep(drive[1:], block=dec * rows_per_block, decimation=dec, progress=progress)
     x = np.concatenate([[0.0], tel.x_slider_m])[: n + 1]
     x = x * (1.0 + model.effects.sensor_scale_error)  # what the sensor reports (x_meas_m)
-    r = placed(run, x) - run.x_m
+    xn = placed(run, x)
+    r = xn - run.x_m
     rss = float(np.sum(r**2))
-    return ReplayedRun(run.id, float(np.sqrt(rss / len(r))), len(r), rss)
+    return ReplayedRun(run.id, float(np.sqrt(rss / len(r))), len(r), rss, run.t_s, run.x_m, xn)
 
 
 def replay(
@@ -71,10 +75,12 @@ def replay(
     say=lambda msg: None,
     progress: StepProgress = None,
     only: list[str] | None = None,
+    traces: list[ReplayedRun] | None = None,
 ) -> dict:
     """Load model into the node, replay the runs of ds (those named in `only`, when given; the
     word "validation" stands for the model's validation runs), and return the figures
-    ({"model": ..., "runs": [{"id", "rmse_m", "rows"}], "validation_rmse_m", ...})."""
+    ({"model": ..., "runs": [{"id", "rmse_m", "rows"}], "validation_rmse_m", ...}). traces, when
+    given, gets every replayed run with its positions (for replay_report)."""
     val_ids = model.source.get("validation_runs") or []
     runs = prepare_all(ds.runs)  # the stroke over every run, as the diagnosis saw it
     if only:
@@ -90,6 +96,8 @@ def replay(
     for run in runs:
         say(f"replaying {run.id}")
         done.append(replay_run(client, run, model, progress))
+    if traces is not None:
+        traces.extend(done)
     val = [r for r in done if r.id in val_ids]
 
     def rms(rs: list[ReplayedRun]) -> float | None:
