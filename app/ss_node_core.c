@@ -18,7 +18,7 @@ static const ss_node_param_def_t PARAMS[SS_NODE_N_PARAMS] = {
 #error "SS_MODEL_HEADER: no SS_MODEL_NODE_PARAMS (GMS, or a step other than the node's 1 us)"
 #endif
 #if defined(SS_NODE_MODEL_Q) && !defined(SS_MODEL_CONFIG_Q)
-#error "SS_MODEL_HEADER: the fixed-point node cannot run this model (it has effects)"
+#error "SS_MODEL_HEADER: the fixed-point node cannot run this model (an effect it does not model)"
 #endif
 #endif
 

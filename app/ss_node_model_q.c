@@ -34,23 +34,18 @@ ss_node_config_t ss_node_model_default_config(void)
     return ss_actuator_config_table1_q(); /* integer constants: the same on every target */
 }
 
-/* The converter refuses any effect by its field name; say why (the q family has none yet). */
+/* The converter refuses an effect the q family does not model by its field name; say why (it
+ * models the load, the slew limit and the sensor scale: ss_effects_q.h). */
 #define SS_NO_Q(field)                                                                                       \
     {                                                                                                        \
-        field, field ": the fixed-point node has no effects"                                                 \
+        field, field ": the fixed-point node does not model this effect"                                     \
     }
 static const char *no_effects_reason(const char *field)
 {
     static const char *const table[][2] = {
-        SS_NO_Q("friction.asymmetry"),
-        SS_NO_Q("effects.hysteresis_alpha"),
-        SS_NO_Q("effects.creep_ratio"),
-        SS_NO_Q("effects.load_n"),
-        SS_NO_Q("effects.friction_gradient_per_m"),
-        SS_NO_Q("effects.slew_v_per_s"),
-        SS_NO_Q("effects.thermal_coeff_per_j"),
-        SS_NO_Q("effects.base_mass_kg"),
-        SS_NO_Q("effects.sensor_scale_error"),
+        SS_NO_Q("friction.asymmetry"),          SS_NO_Q("effects.hysteresis_alpha"),
+        SS_NO_Q("effects.creep_ratio"),         SS_NO_Q("effects.friction_gradient_per_m"),
+        SS_NO_Q("effects.thermal_coeff_per_j"), SS_NO_Q("effects.base_mass_kg"),
     };
     for (size_t i = 0; i < sizeof table / sizeof table[0]; ++i) {
         if (strcmp(field, table[i][0]) == 0) {

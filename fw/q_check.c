@@ -63,7 +63,7 @@ int main(void)
     static uint32_t step[4];
     /* cppcheck-suppress unassignedVariable */
     static int64_t xs[4];
-    ss_actuator_trace_q_t tr = {step, NULL, NULL, NULL, xs, NULL, NULL, NULL, NULL, NULL, 4u};
+    ss_actuator_trace_q_t tr = {step, NULL, NULL, NULL, xs, NULL, NULL, NULL, NULL, NULL, NULL, 4u};
     uint32_t rows = 0;
     ok = ok && ss_actuator_run_q(&cfg, &st, &w, &ws, 1000u, 250u, &tr, &rows) == SS_OK && rows == 4u;
     ok = ok && st.x_slider_q40 == SS_Q_CHECK_X_SLIDER && xs[3] == st.x_slider_q40 && step[3] == 1000u;
@@ -71,6 +71,16 @@ int main(void)
     ok = ok && ss_waveform_fill_q(&w, &ws, drive, 2u) == SS_OK;
     ss_waveform_advance_q(&ws);
     ok = ok && ss_actuator_step_q(&cfg, &st, ss_sawtooth_at_phase_q(&w, 12345u)) == SS_OK;
+    /* the effects: 0.25 N of load, 1 V a step of slew, a sensor reading 1/32 long */
+    ss_actuator_config_q_t fx = cfg;
+    fx.effects.load_q24 = 1 << 22;
+    fx.effects.slew_q24 = 1 << 24;
+    fx.effects.sensor_scale_q30 = 1 << 25;
+    static ss_actuator_state_q_t sf;
+    ok = ok && ss_actuator_init_q(&fx, &sf, 0) == SS_OK;
+    ss_actuator_place_slider_q(&sf, 1000);
+    ok = ok && ss_actuator_step_q(&fx, &sf, 100 << 16) == SS_OK && sf.amp_q24 == ((int64_t)1 << 24);
+    ok = ok && ss_actuator_sensor_q(&fx, (int64_t)1 << 40) == ((int64_t)1 << 40) + ((int64_t)1 << 35);
     semihost_exit(ok ? 0 : 1);
     return 0;
 }

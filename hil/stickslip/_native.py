@@ -139,6 +139,10 @@ class FrictionConfigQ(C.Structure):
     ]
 
 
+class EffectsConfigQ(C.Structure):
+    _fields_ = [(n, C.c_int32) for n in ("load_q24", "slew_q24", "sensor_scale_q30")]
+
+
 class ActuatorConfigQ(C.Structure):
     _fields_ = [
         ("dt_q40", C.c_int32),
@@ -149,6 +153,7 @@ class ActuatorConfigQ(C.Structure):
         ("kick_slider_q40", C.c_int32),
         ("phi_q28", C.c_int32 * 4),
         ("friction", FrictionConfigQ),
+        ("effects", EffectsConfigQ),
     ]
 
 
@@ -178,6 +183,7 @@ class ActuatorTraceQ(C.Structure):
         ("force_q24", _I32P),
         ("state_a", _I32P),
         ("state_b", _I32P),
+        ("x_meas_q40", C.POINTER(C.c_int64)),
         ("capacity", C.c_uint32),
     ]
 
@@ -195,6 +201,7 @@ TRACE_Q_COLUMNS = {
     "force_q24": np.int32,
     "state_a": np.int32,
     "state_b": np.int32,
+    "x_meas_q40": np.int64,
 }
 TRACE_Q_STATES = {"ls": ("ls.level_q24", "ls.fm_q24"), "lugre": ("lugre.z_q40", "lugre.zdot_q28")}
 

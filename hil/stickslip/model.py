@@ -329,12 +329,11 @@ def _si_from_q(cols: dict[str, np.ndarray], model: str) -> dict[str, np.ndarray]
     signal = {"state_a": state_a, "state_b": state_b}
     names = {"drive_q16": "drive_v", "x_p_q40": "x_p_m", "x_rod_q40": "x_rod_m"}
     names |= {"x_slider_q40": "x_slider_m", "v_rod_q28": "v_rod_m_per_s", "force_q24": "force_n"}
-    names |= {"v_slider_q28": "v_slider_m_per_s"}
+    names |= {"v_slider_q28": "v_slider_m_per_s", "x_meas_q40": "x_meas_m"}
     res = {"step": cols["step"].astype(np.float64)}
     for k, v in cols.items():
         if k != "step":
             res[names.get(k, k)] = v.astype(np.float64) * N.q_scale(signal.get(k, k))
-    res["x_meas_m"] = res["x_slider_m"]  # the q family has no sensor model
     return res
 
 
@@ -354,7 +353,8 @@ def simulate(
     """Simulate the actuator under a sawtooth, or under sampled drive voltages (drive_v at
     drive_interval_s, linearly interpolated), with the C model; effects switch on optional
     physics, x0_m is where the slider starts. variant "q" runs the fixed-point core (sawtooth
-    drive, no effects, slider starting at 0)."""
+    drive, slider starting at 0; of the effects, the load, the slew limit and the sensor scale:
+    the converter refuses the others by name)."""
     if variant not in VARIANTS:
         raise ValueError(f"variant must be one of {VARIANTS}, got {variant!r}")
     params = params or ActuatorParams.table1()

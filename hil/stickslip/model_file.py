@@ -103,11 +103,19 @@ class ModelFile:
         return self.params.actuator_config(self.law, self.dt_s, self.effects)
 
     def config_q(self) -> N.ActuatorConfigQ | None:
-        """The fixed-point config, or None when that family cannot run this model (GMS, or any
-        effect: the q family has none yet)."""
-        if self.law not in Q_LAWS or self.effects.active():
-            return None
-        return N.config_to_q(self.config())
+        """The fixed-point config, or None when that family cannot run this model (GMS, an effect
+        it does not model, or a value beyond its formats)."""
+        return None if self.q_problem() else N.config_to_q(self.config())
+
+    def q_problem(self) -> str | None:
+        """Why the fixed-point family cannot run this model (None: it can)."""
+        if self.law not in Q_LAWS:
+            return f"{self.law} friction"
+        try:
+            N.config_to_q(self.config())
+        except ValueError as e:
+            return str(e)
+        return None
 
 
 def _number(v: object, where: str, bad) -> float:
@@ -167,7 +175,7 @@ def c_header(m: ModelFile, guard: str = "SS_MODEL_H") -> str:
     q = m.config_q()
     out.append("")
     if q is None:
-        why = "GMS friction" if m.law not in Q_LAWS else f"effects {sorted(m.effects.active())}"
+        why = m.q_problem()
         out.append(
             f"/* No SS_MODEL_CONFIG_Q: the fixed-point family cannot run this model ({why}). */"
         )

@@ -8,6 +8,7 @@
 
 #include <stdint.h>
 
+#include "ss_effects_q.h"
 #include "ss_friction_q.h"
 #include "ss_ls_friction_q.h"
 #include "ss_lugre_q.h"
@@ -28,6 +29,7 @@ typedef struct {
      * {phi00, phi01 / dt, phi10 dt, phi11} of the float family's phi, dimensionless, Q4.28 */
     int32_t phi_q28[4];
     ss_friction_config_q_t friction;
+    ss_effects_config_q_t effects; /* load, slew limit, sensor scale; zeroed = off */
 } ss_actuator_config_q_t;
 
 typedef struct {
@@ -38,6 +40,7 @@ typedef struct {
     int32_t x_p_q40;      /* ideal piezo strain at the current time, m at 2^-40 */
     int32_t drive_q16;    /* drive at the current time, V in Q16.16 */
     int32_t force_q24;    /* friction on the slider (on the rod: minus it), N at 2^-24 */
+    int64_t amp_q24;      /* voltage on the piezo (the slew-limited drive), V at 2^-24 */
     uint32_t steps;       /* steps taken since init */
     uint32_t pad;         /* zero; keeps the union 8-byte aligned on every target */
     union {
@@ -72,10 +75,17 @@ typedef struct {
     int32_t *v_rod_q28;
     int32_t *v_slider_q28;
     int32_t *force_q24;
-    int32_t *state_a;  /* LS: break-away level s (N at 2^-24);  LuGre: bristle z (m at 2^-40) */
-    int32_t *state_b;  /* LS: presliding force F_M (N at 2^-24); LuGre: dz/dt (m/s at 2^-28) */
-    uint32_t capacity; /* rows the buffers hold */
+    int32_t *state_a;    /* LS: break-away level s (N at 2^-24);  LuGre: bristle z (m at 2^-40) */
+    int32_t *state_b;    /* LS: presliding force F_M (N at 2^-24); LuGre: dz/dt (m/s at 2^-28) */
+    int64_t *x_meas_q40; /* slider position as the sensor reports it (effects.sensor_scale_q30), m at 2^-40 */
+    uint32_t capacity;   /* rows the buffers hold */
 } ss_actuator_trace_q_t;
+
+/* Put the slider at x (m at 2^-40; e.g. where a measured run starts). */
+void ss_actuator_place_slider_q(ss_actuator_state_q_t *st, int64_t x_q40);
+
+/* What the position sensor reports for a slider position (effects.sensor_scale_q30), m at 2^-40. */
+int64_t ss_actuator_sensor_q(const ss_actuator_config_q_t *cfg, int64_t x_slider_q40);
 
 /* Write the current state into row `row` of the trace (row < capacity is the caller's duty). */
 void ss_actuator_record_q(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,

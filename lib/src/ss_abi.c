@@ -44,6 +44,7 @@ static const qformat_entry_t QFORMATS[] = {
     {"x_p_q40", SS_QF_LENGTH},
     {"x_rod_q40", SS_QF_LENGTH},
     {"x_slider_q40", SS_QF_LENGTH},
+    {"x_meas_q40", SS_QF_LENGTH},
     {"v_rod_q28", SS_QF_VELOCITY},
     {"v_slider_q28", SS_QF_VELOCITY},
     {"force_q24", SS_QF_FORCE},

@@ -22,6 +22,9 @@ ss_actuator_config_q_t ss_actuator_config_table1_q(void)
     cfg.phi_q28[2] = -49035804;
     cfg.phi_q28[3] = 242038569;
     cfg.friction = ss_friction_config_table1_q();
+    cfg.effects.load_q24 = 0;
+    cfg.effects.slew_q24 = 0;
+    cfg.effects.sensor_scale_q30 = 0;
     return cfg;
 }
 
@@ -46,6 +49,13 @@ ss_status_t ss_actuator_config_check_q(const ss_actuator_config_q_t *cfg, const 
         *bad = "kick_rod_q40";
     } else if (cfg->kick_slider_q40 <= 0) {
         *bad = "kick_slider_q40";
+    } else if (cfg->effects.load_q24 < -SS_Q_LOAD_MAX_Q24 || cfg->effects.load_q24 > SS_Q_LOAD_MAX_Q24) {
+        *bad = "effects.load_q24";
+    } else if (cfg->effects.slew_q24 < 0 || cfg->effects.slew_q24 > SS_Q_SLEW_MAX_Q24) {
+        *bad = "effects.slew_q24";
+    } else if (cfg->effects.sensor_scale_q30 < -(SS_Q30_ONE / 2) ||
+               cfg->effects.sensor_scale_q30 > SS_Q30_ONE / 2) {
+        *bad = "effects.sensor_scale_q30";
     } else {
         return ss_friction_config_check_named_q(&cfg->friction, 1, bad);
     }
@@ -77,6 +87,7 @@ ss_status_t ss_actuator_init_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
         return status;
     }
     st->drive_q16 = drive0_q16;
+    st->amp_q24 = (int64_t)drive0_q16 * 256;
     st->x_p_q40 = strain_q40(cfg, drive0_q16);
     st->x_rod_q40 = st->x_p_q40; /* static equilibrium: no friction at the virgin state */
     st->v_rod_q28 = 0;
@@ -88,13 +99,29 @@ ss_status_t ss_actuator_init_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     return SS_OK;
 }
 
-/* Half a step of the friction force on both bodies: N at 2^-24 times (m/s)/N at 2^-40 is m/s at
- * 2^-64. */
+/* Half a step of the friction force on both bodies and of the load on the slider: N at 2^-24 times
+ * (m/s)/N at 2^-40 is m/s at 2^-64. */
 static void kick(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st)
 {
+    const int64_t on_slider = (int64_t)st->force_q24 + cfg->effects.load_q24;
     st->v_rod_q28 = ss_sat32(st->v_rod_q28 - ss_shr_round((int64_t)st->force_q24 * cfg->kick_rod_q40, 36));
-    st->v_slider_q28 =
-        ss_sat32(st->v_slider_q28 + ss_shr_round((int64_t)st->force_q24 * cfg->kick_slider_q40, 36));
+    st->v_slider_q28 = ss_sat32(st->v_slider_q28 + ss_shr_round(on_slider * cfg->kick_slider_q40, 36));
+}
+
+/* The amplifier: the piezo voltage follows the drive at most slew_q24 per step. The strain is
+ * taken from it rounded to Q16.16, the drive's own grid (0.7 fm at 44 nm/V). Without a limit the
+ * voltage is the drive and the strain the base model's, bit for bit. */
+static int32_t piezo_strain_q40(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                                int32_t drive_q16)
+{
+    const int64_t target = (int64_t)drive_q16 * 256;
+    if (cfg->effects.slew_q24 == 0) {
+        st->amp_q24 = target;
+        return strain_q40(cfg, drive_q16);
+    }
+    const int64_t slew = cfg->effects.slew_q24;
+    st->amp_q24 += ss_clamp64(target - st->amp_q24, -slew, slew);
+    return strain_q40(cfg, ss_sat32(ss_shr_round(st->amp_q24, 8)));
 }
 
 ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
@@ -112,7 +139,7 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     /* drift: exact flow of the rod under a strain ramping linearly over the step (rate b); its
      * forced response is x_p(t) - c b / k, the rest e is free. Intermediates saturate at the
      * formats' ranges (a drive jump beyond 8 m/s of strain rate is not a physical drive). */
-    const int32_t x_p1 = strain_q40(cfg, drive_q16);
+    const int32_t x_p1 = piezo_strain_q40(cfg, st, drive_q16);
     const int64_t dxp = ss_sat32((int64_t)x_p1 - st->x_p_q40);
     const int64_t b = ss_sat32(ss_div_round(dxp * ((int64_t)1 << SS_QF_DXDT), dt)); /* m/s at 2^-28 */
     const int64_t lag = ss_shr_round((int64_t)cfg->lag_q24 * dxp, SS_QF_LAG);       /* c b / k, m at 2^-40 */
@@ -133,8 +160,12 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     st->drive_q16 = drive_q16;
 
     /* friction at the new state and the velocity the step ends with, solved for the closing kick
-     * (implicit in the damping terms): F = F_free / (1 + dF/dv dt/2 (1/M_R + 1/M_c)) */
-    const int32_t v_free = ss_sat32((int64_t)st->v_rod_q28 - st->v_slider_q28);
+     * (implicit in the damping terms): F = F_free / (1 + dF/dv dt/2 (1/M_R + 1/M_c)); the load's
+     * half kick is known and taken out of the relative velocity */
+    const int64_t load_kick = (cfg->effects.load_q24 == 0)
+                                  ? 0
+                                  : ss_shr_round((int64_t)cfg->effects.load_q24 * cfg->kick_slider_q40, 36);
+    const int32_t v_free = ss_sat32((int64_t)st->v_rod_q28 - st->v_slider_q28 - load_kick);
     int32_t dfdv = 0;
     int32_t f_free;
     if (cfg->friction_model == SS_FRICTION_Q_LUGRE) {
@@ -154,6 +185,23 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     kick(cfg, st);
     st->steps++;
     return SS_OK;
+}
+
+void ss_actuator_place_slider_q(ss_actuator_state_q_t *st, int64_t x_q40)
+{
+    st->x_slider_q40 = x_q40;
+}
+
+/* x + e x with e in Q2.30, x split at bit 30 so that no product leaves 64 bits (|x| < 2^63). */
+int64_t ss_actuator_sensor_q(const ss_actuator_config_q_t *cfg, int64_t x_slider_q40)
+{
+    const int64_t e = cfg->effects.sensor_scale_q30;
+    if (e == 0) {
+        return x_slider_q40;
+    }
+    const int64_t hi = x_slider_q40 >> 30; /* floor: hi 2^30 + lo == x, lo in [0, 2^30) */
+    const int64_t lo = x_slider_q40 - hi * ((int64_t)1 << 30);
+    return x_slider_q40 + hi * e + ss_shr_round(lo * e, 30);
 }
 
 void ss_actuator_record_q(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
@@ -189,6 +237,9 @@ void ss_actuator_record_q(const ss_actuator_config_q_t *cfg, const ss_actuator_s
     }
     if (tr->state_b != NULL) {
         tr->state_b[row] = lugre ? st->fr.lugre.zdot_q28 : st->fr.ls.fm_q24;
+    }
+    if (tr->x_meas_q40 != NULL) {
+        tr->x_meas_q40[row] = ss_actuator_sensor_q(cfg, st->x_slider_q40);
     }
 }
 

@@ -131,16 +131,14 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
         *bad = "friction_model";
         return SS_ERR_RANGE;
     }
-    /* the q family models no effects (yet): a config that asks for one is refused, never run
-     * without it. A zeroed effects struct is the base model. */
+    /* the q family models the load, the slew limit and the sensor scale (ss_effects_q.h); a config
+     * that asks for another effect is refused by its field name, never run without it. */
     static const char *const effect_names[] = {"effects.hysteresis_alpha", "effects.creep_ratio",
-                                               "effects.load_n",           "effects.friction_gradient_per_m",
-                                               "effects.slew_v_per_s",     "effects.thermal_coeff_per_j",
-                                               "effects.base_mass_kg",     "effects.sensor_scale_error"};
+                                               "effects.friction_gradient_per_m",
+                                               "effects.thermal_coeff_per_j", "effects.base_mass_kg"};
     const float switches[] = {in->effects.hysteresis_alpha, in->effects.creep_ratio,
-                              in->effects.load_n,           in->effects.friction_gradient_per_m,
-                              in->effects.slew_v_per_s,     in->effects.thermal_coeff_per_j,
-                              in->effects.base_mass_kg,     in->effects.sensor_scale_error};
+                              in->effects.friction_gradient_per_m, in->effects.thermal_coeff_per_j,
+                              in->effects.base_mass_kg};
     for (size_t i = 0; i < sizeof switches / sizeof switches[0]; ++i) {
         if (switches[i] != 0.0f) {
             *bad = effect_names[i];
@@ -189,6 +187,26 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
         out->phi_q28[i] = (int32_t)v;
     }
     out->friction_model = in->friction_model;
+    /* effects: the load in N at 2^-24, the slew as volts per step at 2^-24 (of the step taken),
+     * the sensor's scale error in Q2.30; 0 stays 0 (off) */
+    const double lmax = (double)SS_Q_LOAD_MAX_Q24;
+    if (!to_int((double)in->effects.load_n * SS_QF_ONE(SS_QF_FORCE), -lmax, lmax, &v)) {
+        *bad = "effects.load_n";
+        return SS_ERR_RANGE;
+    }
+    out->effects.load_q24 = (int32_t)v;
+    v = 0;
+    if (in->effects.slew_v_per_s != 0.0f &&
+        !to_int((double)in->effects.slew_v_per_s * dt * SS_QF_ONE(24), 1.0, (double)SS_Q_SLEW_MAX_Q24, &v)) {
+        *bad = "effects.slew_v_per_s";
+        return SS_ERR_RANGE;
+    }
+    out->effects.slew_q24 = (int32_t)v;
+    if (!to_int((double)in->effects.sensor_scale_error * SS_QF_ONE(30), -SS_QF_ONE(29), SS_QF_ONE(29), &v)) {
+        *bad = "effects.sensor_scale_error";
+        return SS_ERR_RANGE;
+    }
+    out->effects.sensor_scale_q30 = (int32_t)v;
     st = friction_to_q(&in->friction, 1, &out->friction, bad);
     if (st == SS_OK) {
         st = ss_actuator_config_check_q(out, NULL);

@@ -8,6 +8,7 @@
 
 #include "ss_abi.h"
 #include "ss_convert_q.h"
+#include "ss_fixed.h"
 
 #define Q40 1099511627776.0 /* 2^40 */
 #define Q24 16777216.0      /* 2^24 */
@@ -88,17 +89,30 @@ static void test_converter_names_bad_fields(void **unused)
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "friction.asymmetry");
     c = ok;
+    c.effects.hysteresis_alpha = 0.1f;
+    c.effects.hysteresis_width_m = 1e-6f;
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "effects.hysteresis_alpha");
+    /* the effects it models: converted, or refused by name beyond what their formats hold */
+    c = ok;
     c.effects.load_n = 0.2f;
+    c.effects.slew_v_per_s = 1e6f; /* 1 V/us: 1 V a step */
+    c.effects.sensor_scale_error = -0.03f;
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_OK);
+    assert_int_equal(q.effects.load_q24, 3355443);           /* 0.2 x 2^24, rounded */
+    assert_int_equal(q.effects.slew_q24, 16777222);          /* 1e6 V/s x 1.00000034 us x 2^24 */
+    assert_int_equal(q.effects.sensor_scale_q30, -32212254); /* float32(-0.03) x 2^30, rounded */
+    c.effects.load_n = 40.0f; /* within the float range, beyond the q forces' 32 N */
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "effects.load_n");
+    c.effects.load_n = 0.0f;
+    c.effects.slew_v_per_s = 1e12f; /* 1e6 V a step: beyond 127 V */
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "effects.slew_v_per_s");
     c = ok;
     c.friction_model = SS_FRICTION_GMS; /* a float-family law: refused, never run as LS */
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "friction_model");
-    c = ok;
-    c.effects.sensor_scale_error = 0.01f;
-    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
-    assert_string_equal(bad, "effects.sensor_scale_error");
     c = ok;
     c.friction.sigma1_ns_per_m = NAN;
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_NONFINITE);
@@ -471,6 +485,64 @@ static void test_q_actuator_steps_match_float(void **unused)
     assert_true(cases >= 15);
 }
 
+/* The effects the q family models (load, slew limit) against float, per cycle, as the drives
+ * above: |q - f32| within 1 % of the float step (the issue's bound) or 1e-3 of the stroke where the
+ * slider hardly steps. A load of 0.2 N (Fc is 3 N) and slews of 1 and 3 V/us, which stretch the
+ * 15 us fall of 95 V to 95 and 32 us. */
+static void test_q_effects_steps_match_float(void **unused)
+{
+    (void)unused;
+    const float loads[] = {0.2f, -0.2f, 0.0f, 0.0f, 0.2f};
+    const float slews[] = {0.0f, 0.0f, 1e6f, 3e6f, 3e6f};
+    const double freqs[] = {300.0, 500.0, 1000.0, 2000.0};
+    double worst_all = 0.0;
+    for (int model = 0; model < 2; ++model) {
+        for (size_t e = 0; e < sizeof loads / sizeof loads[0]; ++e) {
+            double worst = 0.0;
+            for (size_t i = 0; i < sizeof freqs / sizeof freqs[0]; ++i) {
+                ss_actuator_config_f32_t cf = ss_actuator_config_table1_f32();
+                cf.friction_model = model ? SS_FRICTION_LUGRE : SS_FRICTION_LS;
+                cf.effects.load_n = loads[e];
+                cf.effects.slew_v_per_s = slews[e];
+                double xf[9], xq[9];
+                run_both(cf, freqs[i], 100.0, 0.95, 8, xf, xq, 0);
+                const double floor_m = 1e-3 * 100.0 * (double)cf.piezo_gain_m_per_v;
+                for (int k = 1; k <= 8; ++k) {
+                    const double sf = xf[k] - xf[k - 1], sq = xq[k] - xq[k - 1];
+                    const double err = fabs(sq - sf) / fmax(fabs(sf), floor_m / 0.01);
+                    worst = fmax(worst, err);
+                    assert_true(err < 0.01);
+                }
+            }
+            print_message("%-5s load %+.1f N, slew %.0f V/us: worst per-cycle step error %.4f %%\n",
+                          model ? "lugre" : "ls", (double)loads[e], (double)slews[e] * 1e-6, 100.0 * worst);
+            worst_all = fmax(worst_all, worst);
+        }
+    }
+    print_message("q effects (load, slew): worst per-cycle step error %.4f %% of the float step\n",
+                  100.0 * worst_all);
+}
+
+/* The sensor's scale error: x + e x in integers equals the exact product to the rounding of the
+ * low part (1 LSB), over the whole int64 travel's practical range and both signs. */
+static void test_q_sensor_scale(void **unused)
+{
+    (void)unused;
+    ss_actuator_config_q_t c = ss_actuator_config_table1_q();
+    const int32_t es[] = {-(SS_Q30_ONE / 2), -32212254, 1, 5368709, SS_Q30_ONE / 2};
+    const int64_t xs[] = {0, 1, -1, 123456789, -987654321012LL, (int64_t)1 << 50, -((int64_t)1 << 52)};
+    for (size_t i = 0; i < sizeof es / sizeof es[0]; ++i) {
+        c.effects.sensor_scale_q30 = es[i];
+        for (size_t j = 0; j < sizeof xs / sizeof xs[0]; ++j) {
+            const long double exact = (long double)xs[j] * (1.0L + (long double)es[i] / 1073741824.0L);
+            const int64_t got = ss_actuator_sensor_q(&c, xs[j]);
+            assert_true(fabsl((long double)got - exact) <= 1.0L);
+        }
+    }
+    c.effects.sensor_scale_q30 = 0;
+    assert_true(ss_actuator_sensor_q(&c, -((int64_t)1 << 52)) == -((int64_t)1 << 52));
+}
+
 /* Travel of +-25 mm at 2^-40 m: nothing in the q model depends on where the slider is, so a run
  * that starts at -25 mm or +25 mm steps exactly (to the bit) as one that starts at 0. */
 static void test_q_long_travel_is_exact(void **unused)
@@ -520,9 +592,9 @@ static void test_q_run_matches_manual_steps(void **unused)
     enum { N = 4000, DEC = 7, ROWS = N / DEC };
     static uint32_t step[ROWS];
     static int32_t col[8][ROWS];
-    static int64_t xs[ROWS];
-    ss_actuator_trace_q_t tr = {step,   col[0], col[1], col[2], xs,  col[3],
-                                col[4], col[5], col[6], col[7], ROWS};
+    static int64_t xs[ROWS], xm[ROWS];
+    ss_actuator_trace_q_t tr = {step,   col[0], col[1], col[2], xs, col[3],
+                                col[4], col[5], col[6], col[7], xm, ROWS};
     uint32_t rows = 0;
     assert_int_equal(ss_actuator_run_q(&c, &a, &w, &wa, N, DEC, &tr, &rows), SS_OK);
     assert_int_equal(rows, ROWS);
@@ -533,6 +605,7 @@ static void test_q_run_matches_manual_steps(void **unused)
             const uint32_t r = k / DEC - 1;
             assert_int_equal(step[r], k);
             assert_true(xs[r] == b.x_slider_q40);
+            assert_true(xm[r] == b.x_slider_q40); /* no sensor scale error */
             assert_int_equal(col[5][r], b.force_q24);
             assert_int_equal(col[6][r], b.fr.ls.level_q24);
             assert_int_equal(col[7][r], b.fr.ls.fm_q24);
@@ -638,6 +711,8 @@ int main(void)
         cmocka_unit_test(test_q_run_matches_manual_steps),
         cmocka_unit_test(test_q_waveform),
         cmocka_unit_test(test_q_actuator_steps_match_float),
+        cmocka_unit_test(test_q_effects_steps_match_float),
+        cmocka_unit_test(test_q_sensor_scale),
         cmocka_unit_test(test_q_long_travel_is_exact),
         cmocka_unit_test(test_q_bit_exact_reference),
         cmocka_unit_test(test_q_abi_sizes),

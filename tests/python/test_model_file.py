@@ -115,6 +115,11 @@ def _compiled(tmp_path: Path, m: MF.ModelFile) -> tuple[bytes, bytes]:
         MF.ModelFile(ActuatorParams.table1(), "lugre", dt_s=0.5e-6),
         MF.ModelFile(
             ActuatorParams.table1(),
+            "ls",
+            Effects(load_n=-0.1, slew_v_per_s=2e6, sensor_scale_error=0.02),
+        ),
+        MF.ModelFile(
+            ActuatorParams.table1(),
             "gms",
             Effects(
                 hysteresis_alpha=0.1,
@@ -126,14 +131,20 @@ def _compiled(tmp_path: Path, m: MF.ModelFile) -> tuple[bytes, bytes]:
             ),
         ),  # fmt: skip
     ],
-    ids=["table1", "lugre_half_us", "gms_with_effects"],
+    ids=["table1", "lugre_half_us", "ls_with_q_effects", "gms_with_effects"],
 )
 def test_the_c_header_compiles_to_the_librarys_config(tmp_path, m):
     f32, q = _compiled(tmp_path, m)
     assert f32 == bytes(m.config())  # every field bit for bit, effects included
     cq = m.config_q()
     assert q == (b"" if cq is None else bytes(cq))
-    assert (cq is None) == (m.law == "gms" or bool(m.effects.active()))
+    # the q family models the load, the slew limit and the sensor scale, not GMS or a hysteresis
+    assert (cq is None) == (m.law == "gms")
+    if cq is not None:
+        assert (cq.effects.load_q24, cq.effects.sensor_scale_q30) == (
+            round(m.effects.load_n * 2**24),
+            round(m.effects.sensor_scale_error * 2**30),
+        )
 
 
 def test_model_export_and_check_commands(tmp_path, capsys):
@@ -210,6 +221,12 @@ def test_a_model_header_compiled_into_the_node_is_its_default(tmp_path):
     values = [float(v) for v in out[:-1]]
     assert values == pytest.approx(list(model_values(m, NODE_DT_S).values()), rel=1e-7)
     assert bytes.fromhex(out[-1]) == bytes(m.config())  # the config the node runs, bit for bit
-    # the fixed-point node cannot run effects: the build says so instead of running without them
+    # the fixed-point node runs the load and the slew limit: its config is the header's q one
     q = _node_with_header(tmp_path / "q", m, "q")
+    assert q.returncode == 0, q.stderr
+    out = subprocess.run([str(tmp_path / "q" / "node")], capture_output=True, text=True).stdout
+    assert bytes.fromhex(out.split()[-1]) == bytes(m.config_q())
+    # an effect it does not model: the build says so instead of running without it
+    h = MF.ModelFile(m.params, "lugre", Effects(hysteresis_alpha=0.1, hysteresis_width_m=1e-6))
+    q = _node_with_header(tmp_path / "qh", h, "q")
     assert q.returncode != 0 and "the fixed-point node cannot run this model" in q.stderr

@@ -64,8 +64,12 @@ def test_properties_hold_for_both_variants(variant):
 
 
 def test_q_refuses_what_it_does_not_model():
-    with pytest.raises(ValueError, match="effects.load_n"):
-        simulate(Sawtooth(cycles=1), variant="q", effects=Effects(load_n=0.1))
+    with pytest.raises(ValueError, match="effects.hysteresis_alpha"):
+        simulate(
+            Sawtooth(cycles=1),
+            variant="q",
+            effects=Effects(hysteresis_alpha=0.1, hysteresis_width_m=1e-6),
+        )
     with pytest.raises(ValueError, match="sampled drive"):
         simulate(None, variant="q", drive_v=np.zeros(10), drive_interval_s=1e-5)
     with pytest.raises(ValueError, match="variant must be"):

@@ -1,0 +1,22 @@
+/* The effects of the cause catalog (ss_effects.h) that the fixed-point family models, in integer
+ * form: zero is off, so a zeroed struct is the base model. The host converter
+ * (ss_actuator_config_to_q) fills them from the float config and refuses, by field name, any
+ * effect not listed here. Formats and error bounds: docs/fixed-point.md. */
+#ifndef SS_EFFECTS_Q_H
+#define SS_EFFECTS_Q_H
+
+#include <stdint.h>
+
+/* Largest |load| (N at 2^-24) the q family takes: the friction's own headroom (SS_Q_FS_MAX_Q24). */
+#define SS_Q_LOAD_MAX_Q24 ((int32_t)32 << 24)
+/* Largest slew per step (V at 2^-24): 127 V; a slower amplifier than that is refused by name. */
+#define SS_Q_SLEW_MAX_Q24 ((int32_t)127 << 24)
+
+typedef struct {
+    int32_t load_q24;         /* external_load: constant force on the slider, N at 2^-24, |.| <= 32 N */
+    int32_t slew_q24;         /* amplifier_slew_limit: largest change of the piezo voltage in one step,
+                                 V at 2^-24 (slew rate x dt): 0 = off, else (0, 127 V] */
+    int32_t sensor_scale_q30; /* sensor_scale_error e, Q2.30 in [-0.5, 0.5]: the sensor reports (1 + e) x */
+} ss_effects_config_q_t;
+
+#endif /* SS_EFFECTS_Q_H */
