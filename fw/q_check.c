@@ -81,6 +81,9 @@ int main(void)
     ss_actuator_place_slider_q(&sf, 1000);
     ok = ok && ss_actuator_step_q(&fx, &sf, 100 << 16) == SS_OK && sf.amp_q24 == ((int64_t)1 << 24);
     ok = ok && ss_actuator_sensor_q(&fx, (int64_t)1 << 40) == ((int64_t)1 << 40) + ((int64_t)1 << 35);
+    /* a contact a quarter stronger under a positive load, as strong unloaded */
+    fr.asymmetry_q30 = 1 << 28;
+    ok = ok && ss_asymmetric_q(&fr, 4 << 24, 1) == 5 << 24 && ss_asymmetric_q(&fr, 4 << 24, 0) == 4 << 24;
     semihost_exit(ok ? 0 : 1);
     return 0;
 }

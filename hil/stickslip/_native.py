@@ -135,7 +135,15 @@ TRACE_COLUMNS = [f[0] for f in ActuatorTrace._fields_ if f[0] != "capacity"]
 class FrictionConfigQ(C.Structure):
     _fields_ = [
         (n, C.c_int32)
-        for n in ("fs_q24", "fc_q24", "vs_q28", "sigma0_n_per_m", "sigma1_q16", "sigma2_q16")
+        for n in (
+            "fs_q24",
+            "fc_q24",
+            "vs_q28",
+            "sigma0_n_per_m",
+            "sigma1_q16",
+            "sigma2_q16",
+            "asymmetry_q30",
+        )
     ]
 
 

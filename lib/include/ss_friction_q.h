@@ -18,6 +18,9 @@
  * 2^28 x 2^-40 m = 0.24 mm keeps the local frame far inside int32 (+-1.95 mm). */
 #define SS_Q_SAT_LENGTH_MAX_Q40 ((int64_t)1 << 28)
 
+/* |asymmetry| at most 0.9 (the float range), in Q2.30: ceil(0.9 x 2^30). */
+#define SS_Q_ASYMMETRY_MAX_Q30 966367642
+
 /* Fs/Fc at most this: the ratio s/g (<= Fs/Fc) times a velocity must fit 64-bit intermediates. */
 #define SS_Q_FS_OVER_FC_MAX 64
 
@@ -28,6 +31,8 @@ typedef struct {
     int32_t sigma0_n_per_m; /* initial contact stiffness, whole N/m: [1, 2^31), 24 Fs/sigma0 <= 0.24 mm */
     int32_t sigma1_q16;     /* micro-damping, N s/m in Q16.16: [0, 32768) */
     int32_t sigma2_q16;     /* viscous friction, N s/m in Q16.16: [0, 32768) */
+    int32_t asymmetry_q30;  /* asymmetric_friction a, Q2.30 in [-0.9, 0.9]: the contact's elastic and
+                               micro-damping force times 1 + a sgn(load) (ss_friction.h); 0 = symmetric */
 } ss_friction_config_q_t;
 
 /* Table I of the LS paper as integer constants (no float anywhere): what ss_friction_config_to_q
@@ -43,6 +48,10 @@ ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, 
 
 /* Stribeck curve g(v), N at 2^-24, for v in m/s at 2^-28. */
 int32_t ss_stribeck_q(const ss_friction_config_q_t *cfg, int32_t v_q28);
+
+/* The contact force (N at 2^-24) times 1 + asymmetry sgn(load): unchanged when the contact is
+ * symmetric or unloaded (load 0). */
+int64_t ss_asymmetric_q(const ss_friction_config_q_t *cfg, int64_t force_q24, int64_t load);
 
 /* Slope dg/dv, N s/m in Q16.16 (saturated). */
 int32_t ss_stribeck_slope_q(const ss_friction_config_q_t *cfg, int32_t v_q28);

@@ -44,10 +44,8 @@ static ss_status_t friction_to_q(const ss_friction_config_f32_t *in, int prefixe
             return SS_ERR_RANGE;
         }
     }
-    if (in->asymmetry != 0.0f) { /* the q family has no effects (yet): refuse, never ignore */
-        *bad = prefixed ? "friction.asymmetry" : "asymmetry";
-        return SS_ERR_RANGE;
-    }
+    /* the float check held |asymmetry| <= 0.9, which rounds to at most SS_Q_ASYMMETRY_MAX_Q30 */
+    out->asymmetry_q30 = (int32_t)floor((double)in->asymmetry * SS_QF_ONE(30) + 0.5);
     out->fs_q24 = (int32_t)v[0];
     out->fc_q24 = (int32_t)v[1];
     out->vs_q28 = (int32_t)v[2];

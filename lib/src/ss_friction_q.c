@@ -17,13 +17,14 @@ ss_friction_config_q_t ss_friction_config_table1_q(void)
     cfg.sigma0_n_per_m = 10000000;
     cfg.sigma1_q16 = 5242880; /* 80 N s/m */
     cfg.sigma2_q16 = 524288;  /* 8 N s/m */
+    cfg.asymmetry_q30 = 0;
     return cfg;
 }
 
-static const char *const FIELD_NAMES_Q[2][6] = {
-    {"fs_q24", "fc_q24", "vs_q28", "sigma0_n_per_m", "sigma1_q16", "sigma2_q16"},
+static const char *const FIELD_NAMES_Q[2][7] = {
+    {"fs_q24", "fc_q24", "vs_q28", "sigma0_n_per_m", "sigma1_q16", "sigma2_q16", "asymmetry_q30"},
     {"friction.fs_q24", "friction.fc_q24", "friction.vs_q28", "friction.sigma0_n_per_m",
-     "friction.sigma1_q16", "friction.sigma2_q16"},
+     "friction.sigma1_q16", "friction.sigma2_q16", "friction.asymmetry_q30"},
 };
 
 ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, int prefixed,
@@ -49,6 +50,8 @@ ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, 
         bad = 4;
     } else if (cfg->sigma2_q16 < 0) {
         bad = 5;
+    } else if (cfg->asymmetry_q30 < -SS_Q_ASYMMETRY_MAX_Q30 || cfg->asymmetry_q30 > SS_Q_ASYMMETRY_MAX_Q30) {
+        bad = 6;
     }
     if (bad >= 0) {
         *bad_field = names[bad];
@@ -61,6 +64,16 @@ ss_status_t ss_friction_config_check_q(const ss_friction_config_q_t *cfg, const 
 {
     const char *dummy = "";
     return ss_friction_config_check_named_q(cfg, 0, (bad_field != NULL) ? bad_field : &dummy);
+}
+
+int64_t ss_asymmetric_q(const ss_friction_config_q_t *cfg, int64_t force_q24, int64_t load)
+{
+    if (cfg->asymmetry_q30 == 0 || load == 0) {
+        return force_q24;
+    }
+    /* |force| < 2^32 (the int32 sum of two saturated terms) times < 2^31: within 64 bits */
+    const int64_t factor = SS_Q30_ONE + ((load > 0) ? cfg->asymmetry_q30 : -(int64_t)cfg->asymmetry_q30);
+    return ss_shr_round(force_q24 * factor, 30);
 }
 
 /* r = |v| / vs in Q16.16, clamped where exp(-r^2) is zero anyway. */

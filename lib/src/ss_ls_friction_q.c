@@ -176,13 +176,15 @@ int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_
         const int64_t vg = ss_div_round((int64_t)vp * ss_stribeck_slope_q(cfg, vp), g);
         const int64_t dzdvp = one_m + ss_shr_round(ratio * vg, 20);
         const int64_t s1 = ss_shr_round((int64_t)cfg->sigma1_q16 * share, 30);
-        *dfdv_q16 = ss_sat32(ss_shr_round(s1 * dzdvp, 30) + cfg->sigma2_q16);
+        *dfdv_q16 =
+            ss_sat32(ss_asymmetric_q(cfg, ss_shr_round(s1 * dzdvp, 30), st->fm_q24) + cfg->sigma2_q16);
     }
-    /* (s / Fs) F_M + sigma1 dz/dt + sigma2 v; Q16 N s/m times 2^-28 m/s is N at 2^-44 */
-    const int64_t f = ss_div_round((int64_t)st->level_q24 * st->fm_q24, cfg->fs_q24) +
-                      ss_shr_round((int64_t)cfg->sigma1_q16 * zdot, 20) +
-                      ss_shr_round((int64_t)cfg->sigma2_q16 * v_q28, 20);
-    return ss_sat32(f);
+    /* (s / Fs) F_M + sigma1 dz/dt (the contact, asymmetric by the sign of F_M) + sigma2 v; Q16 N s/m
+     * times 2^-28 m/s is N at 2^-44 */
+    const int64_t contact = ss_div_round((int64_t)st->level_q24 * st->fm_q24, cfg->fs_q24) +
+                            ss_shr_round((int64_t)cfg->sigma1_q16 * zdot, 20);
+    return ss_sat32(ss_asymmetric_q(cfg, contact, st->fm_q24) +
+                    ss_shr_round((int64_t)cfg->sigma2_q16 * v_q28, 20));
 }
 
 ss_status_t ss_ls_run_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, const int32_t *dx_q40,

@@ -78,11 +78,14 @@ int32_t ss_lugre_force_at_q(const ss_friction_config_q_t *cfg, const ss_lugre_st
         /* d(dz/dt)/dv = 1 - sgn(v) sigma0 z / g + |v| (sigma0 z / g) g' / g; |v| g'/g at 2^-20 */
         const int64_t vg = ss_div_round(ss_abs64(v) * ss_stribeck_slope_q(cfg, v_q28), g);
         const int64_t dzdv = SS_Q30_ONE - ss_sign32(v) * k + ss_shr_round(k * vg, 20);
-        *dfdv_q16 = ss_sat32(ss_shr_round((int64_t)cfg->sigma1_q16 * dzdv, 30) + cfg->sigma2_q16);
+        *dfdv_q16 =
+            ss_sat32(ss_asymmetric_q(cfg, ss_shr_round((int64_t)cfg->sigma1_q16 * dzdv, 30), st->z_q40) +
+                     cfg->sigma2_q16);
     }
     const int64_t sz =
         ss_clamp64((int64_t)cfg->sigma0_n_per_m * st->z_q40, -SS_LUGRE_Q_SZ_MAX, SS_LUGRE_Q_SZ_MAX);
-    return ss_sat32(ss_shr_round(sz, 16) + ss_shr_round((int64_t)cfg->sigma1_q16 * zdot, 20) +
+    const int64_t contact = ss_shr_round(sz, 16) + ss_shr_round((int64_t)cfg->sigma1_q16 * zdot, 20);
+    return ss_sat32(ss_asymmetric_q(cfg, contact, st->z_q40) +
                     ss_shr_round((int64_t)cfg->sigma2_q16 * v, 20));
 }
 

@@ -85,10 +85,6 @@ static void test_converter_names_bad_fields(void **unused)
     }
     /* effects the q family does not model are refused by name, never silently dropped */
     c = ok;
-    c.friction.asymmetry = 0.1f;
-    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
-    assert_string_equal(bad, "friction.asymmetry");
-    c = ok;
     c.effects.hysteresis_alpha = 0.1f;
     c.effects.hysteresis_width_m = 1e-6f;
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
@@ -102,6 +98,10 @@ static void test_converter_names_bad_fields(void **unused)
     assert_int_equal(q.effects.load_q24, 3355443);           /* 0.2 x 2^24, rounded */
     assert_int_equal(q.effects.slew_q24, 16777222);          /* 1e6 V/s x 1.00000034 us x 2^24 */
     assert_int_equal(q.effects.sensor_scale_q30, -32212254); /* float32(-0.03) x 2^30, rounded */
+    c.friction.asymmetry = -0.9f;                            /* the float range's end fits the q check's */
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_OK);
+    assert_int_equal(q.friction.asymmetry_q30, -966367616); /* float32(-0.9) x 2^30 */
+    c.friction.asymmetry = 0.0f;
     c.effects.load_n = 40.0f; /* within the float range, beyond the q forces' 32 N */
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "effects.load_n");
@@ -485,15 +485,16 @@ static void test_q_actuator_steps_match_float(void **unused)
     assert_true(cases >= 15);
 }
 
-/* The effects the q family models (load, slew limit) against float, per cycle, as the drives
- * above: |q - f32| within 1 % of the float step (the issue's bound) or 1e-3 of the stroke where the
- * slider hardly steps. A load of 0.2 N (Fc is 3 N) and slews of 1 and 3 V/us, which stretch the
- * 15 us fall of 95 V to 95 and 32 us. */
+/* The effects the q family models (load, slew limit, asymmetric friction) against float, per
+ * cycle, as the drives above: |q - f32| within 1 % of the float step (the issue's bound) or 1e-3 of
+ * the stroke where the slider hardly steps. A load of 0.2 N (Fc is 3 N), slews of 1 and 3 V/us,
+ * which stretch the 15 us fall of 95 V to 95 and 32 us, and a contact 20 % stronger one way. */
 static void test_q_effects_steps_match_float(void **unused)
 {
     (void)unused;
-    const float loads[] = {0.2f, -0.2f, 0.0f, 0.0f, 0.2f};
-    const float slews[] = {0.0f, 0.0f, 1e6f, 3e6f, 3e6f};
+    const float loads[] = {0.2f, -0.2f, 0.0f, 0.0f, 0.2f, 0.0f, 0.0f, 0.2f};
+    const float slews[] = {0.0f, 0.0f, 1e6f, 3e6f, 3e6f, 0.0f, 0.0f, 0.0f};
+    const float asyms[] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.2f, -0.2f, -0.2f};
     const double freqs[] = {300.0, 500.0, 1000.0, 2000.0};
     double worst_all = 0.0;
     for (int model = 0; model < 2; ++model) {
@@ -504,6 +505,7 @@ static void test_q_effects_steps_match_float(void **unused)
                 cf.friction_model = model ? SS_FRICTION_LUGRE : SS_FRICTION_LS;
                 cf.effects.load_n = loads[e];
                 cf.effects.slew_v_per_s = slews[e];
+                cf.friction.asymmetry = asyms[e];
                 double xf[9], xq[9];
                 run_both(cf, freqs[i], 100.0, 0.95, 8, xf, xq, 0);
                 const double floor_m = 1e-3 * 100.0 * (double)cf.piezo_gain_m_per_v;
@@ -514,12 +516,14 @@ static void test_q_effects_steps_match_float(void **unused)
                     assert_true(err < 0.01);
                 }
             }
-            print_message("%-5s load %+.1f N, slew %.0f V/us: worst per-cycle step error %.4f %%\n",
-                          model ? "lugre" : "ls", (double)loads[e], (double)slews[e] * 1e-6, 100.0 * worst);
+            print_message(
+                "%-5s load %+.1f N, slew %.0f V/us, asymmetry %+.1f: worst per-cycle step error %.4f %%\n",
+                model ? "lugre" : "ls", (double)loads[e], (double)slews[e] * 1e-6, (double)asyms[e],
+                100.0 * worst);
             worst_all = fmax(worst_all, worst);
         }
     }
-    print_message("q effects (load, slew): worst per-cycle step error %.4f %% of the float step\n",
+    print_message("q effects (load, slew, asymmetry): worst per-cycle step error %.4f %% of the float step\n",
                   100.0 * worst_all);
 }
 

@@ -116,7 +116,7 @@ def _compiled(tmp_path: Path, m: MF.ModelFile) -> tuple[bytes, bytes]:
         MF.ModelFile(
             ActuatorParams.table1(),
             "ls",
-            Effects(load_n=-0.1, slew_v_per_s=2e6, sensor_scale_error=0.02),
+            Effects(load_n=-0.1, slew_v_per_s=2e6, sensor_scale_error=0.02, friction_asymmetry=0.2),
         ),
         MF.ModelFile(
             ActuatorParams.table1(),
