@@ -43,7 +43,7 @@ ss_node_config_t ss_node_model_default_config(void)
 static const char *no_effects_reason(const char *field)
 {
     static const char *const table[][2] = {
-        SS_NO_Q("effects.hysteresis_alpha"),
+
         SS_NO_Q("effects.creep_ratio"),
         SS_NO_Q("effects.friction_gradient_per_m"),
         SS_NO_Q("effects.thermal_coeff_per_j"),

@@ -76,10 +76,16 @@ int main(void)
     fx.effects.load_q24 = 1 << 22;
     fx.effects.slew_q24 = 1 << 24;
     fx.effects.sensor_scale_q30 = 1 << 25;
+    fx.effects.hysteresis_alpha_q30 = 1 << 28; /* 0.25 over 2^20 x 2^-40 m (0.95 um) */
+    fx.effects.hysteresis_width_q40 = 1 << 20;
+    fx.effects.hysteresis_inv_width_q48 = (int64_t)1 << 28;
     static ss_actuator_state_q_t sf;
     ok = ok && ss_actuator_init_q(&fx, &sf, 0) == SS_OK;
     ss_actuator_place_slider_q(&sf, 1000);
     ok = ok && ss_actuator_step_q(&fx, &sf, 100 << 16) == SS_OK && sf.amp_q24 == ((int64_t)1 << 24);
+    /* 1 V of 44 nm/V rises the hysteresis toward alpha width = 2^18, and the strain is u - h */
+    ok = ok && sf.hysteresis_q40 > 0 && sf.hysteresis_q40 < (1 << 18) &&
+         sf.x_p_q40 == sf.strain_q40 - sf.hysteresis_q40;
     ok = ok && ss_actuator_sensor_q(&fx, (int64_t)1 << 40) == ((int64_t)1 << 40) + ((int64_t)1 << 35);
     /* a contact a quarter stronger under a positive load, as strong unloaded */
     fr.asymmetry_q30 = 1 << 28;

@@ -148,7 +148,13 @@ class FrictionConfigQ(C.Structure):
 
 
 class EffectsConfigQ(C.Structure):
-    _fields_ = [(n, C.c_int32) for n in ("load_q24", "slew_q24", "sensor_scale_q30")]
+    _fields_ = [
+        *[(n, C.c_int32) for n in ("load_q24", "slew_q24", "sensor_scale_q30")],
+        ("hysteresis_alpha_q30", C.c_int32),
+        ("hysteresis_width_q40", C.c_int32),
+        ("pad", C.c_int32),
+        ("hysteresis_inv_width_q48", C.c_int64),
+    ]
 
 
 class ActuatorConfigQ(C.Structure):
@@ -161,6 +167,7 @@ class ActuatorConfigQ(C.Structure):
         ("kick_slider_q40", C.c_int32),
         ("phi_q28", C.c_int32 * 4),
         ("friction", FrictionConfigQ),
+        ("pad", C.c_int32),
         ("effects", EffectsConfigQ),
     ]
 

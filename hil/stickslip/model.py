@@ -353,8 +353,8 @@ def simulate(
     """Simulate the actuator under a sawtooth, or under sampled drive voltages (drive_v at
     drive_interval_s, linearly interpolated), with the C model; effects switch on optional
     physics, x0_m is where the slider starts. variant "q" runs the fixed-point core (sawtooth
-    drive, slider starting at 0; of the effects, the load, the slew limit, the sensor scale and
-    the asymmetric friction:
+    drive, slider starting at 0; of the effects, the load, the slew limit, the sensor scale, the
+    asymmetric friction and the hysteresis:
     the converter refuses the others by name)."""
     if variant not in VARIANTS:
         raise ValueError(f"variant must be one of {VARIANTS}, got {variant!r}")

@@ -29,20 +29,23 @@ typedef struct {
      * {phi00, phi01 / dt, phi10 dt, phi11} of the float family's phi, dimensionless, Q4.28 */
     int32_t phi_q28[4];
     ss_friction_config_q_t friction;
+    int32_t pad; /* zero: the effects (with an int64) start 8-byte aligned on every target */
     ss_effects_config_q_t effects; /* load, slew limit, sensor scale; zeroed = off */
 } ss_actuator_config_q_t;
 
 typedef struct {
-    int64_t x_slider_q40; /* slider position, m at 2^-40 (+-8.4e6 m; 0.91 pm resolution) */
-    int32_t x_rod_q40;    /* rod position, m at 2^-40 (+-1.95 mm) */
-    int32_t v_rod_q28;    /* rod velocity, m/s at 2^-28 (+-8 m/s) */
-    int32_t v_slider_q28; /* slider velocity, m/s at 2^-28 */
-    int32_t x_p_q40;      /* ideal piezo strain at the current time, m at 2^-40 */
-    int32_t drive_q16;    /* drive at the current time, V in Q16.16 */
-    int32_t force_q24;    /* friction on the slider (on the rod: minus it), N at 2^-24 */
-    int64_t amp_q24;      /* voltage on the piezo (the slew-limited drive), V at 2^-24 */
-    uint32_t steps;       /* steps taken since init */
-    uint32_t pad;         /* zero; keeps the union 8-byte aligned on every target */
+    int64_t x_slider_q40;   /* slider position, m at 2^-40 (+-8.4e6 m; 0.91 pm resolution) */
+    int32_t x_rod_q40;      /* rod position, m at 2^-40 (+-1.95 mm) */
+    int32_t v_rod_q28;      /* rod velocity, m/s at 2^-28 (+-8 m/s) */
+    int32_t v_slider_q28;   /* slider velocity, m/s at 2^-28 */
+    int32_t x_p_q40;        /* piezo strain at the current time (after the hysteresis), m at 2^-40 */
+    int32_t drive_q16;      /* drive at the current time, V in Q16.16 */
+    int32_t force_q24;      /* friction on the slider (on the rod: minus it), N at 2^-24 */
+    int64_t amp_q24;        /* voltage on the piezo (the slew-limited drive), V at 2^-24 */
+    int32_t strain_q40;     /* ideal strain u before the hysteresis, m at 2^-40 */
+    int32_t hysteresis_q40; /* Bouc-Wen hysteretic strain h (x_p = u - h), m at 2^-40 */
+    uint32_t steps;         /* steps taken since init */
+    uint32_t pad;           /* zero; keeps the union 8-byte aligned on every target */
     union {
         ss_ls_state_q_t ls;
         ss_lugre_state_q_t lugre;

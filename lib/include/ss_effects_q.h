@@ -9,6 +9,11 @@
 
 /* Largest |load| (N at 2^-24) the q family takes: the friction's own headroom (SS_Q_FS_MAX_Q24). */
 #define SS_Q_LOAD_MAX_Q24 ((int32_t)32 << 24)
+/* Largest hysteresis alpha, Q2.30: ceil(0.9 x 2^30), the float range's 0.9. */
+#define SS_Q_HYSTERESIS_ALPHA_MAX_Q30 966367642
+/* Narrowest hysteresis width, m at 2^-40 (0.93 nm): keeps |du| / width in 64 bits (docs/fixed-point.md). */
+#define SS_Q_HYSTERESIS_WIDTH_MIN_Q40 1024
+
 /* Largest slew per step (V at 2^-24): 127 V; a slower amplifier than that is refused by name. */
 #define SS_Q_SLEW_MAX_Q24 ((int32_t)127 << 24)
 
@@ -17,6 +22,13 @@ typedef struct {
     int32_t slew_q24;         /* amplifier_slew_limit: largest change of the piezo voltage in one step,
                                  V at 2^-24 (slew rate x dt): 0 = off, else (0, 127 V] */
     int32_t sensor_scale_q30; /* sensor_scale_error e, Q2.30 in [-0.5, 0.5]: the sensor reports (1 + e) x */
+    /* piezo_hysteresis (Bouc-Wen on the ideal strain, ss_effects.h): alpha in Q2.30, [0, 0.9], 0 = off;
+     * width in m at 2^-40, [1024 (0.93 nm), 2^31) when alpha > 0; inv_width = round(2^48 / width),
+     * from the host converter (the step divides by nothing) */
+    int32_t hysteresis_alpha_q30;
+    int32_t hysteresis_width_q40;
+    int32_t pad; /* zero: no implicit padding, so configs compare byte for byte on every target */
+    int64_t hysteresis_inv_width_q48;
 } ss_effects_config_q_t;
 
 #endif /* SS_EFFECTS_Q_H */

@@ -25,6 +25,11 @@ ss_actuator_config_q_t ss_actuator_config_table1_q(void)
     cfg.effects.load_q24 = 0;
     cfg.effects.slew_q24 = 0;
     cfg.effects.sensor_scale_q30 = 0;
+    cfg.effects.hysteresis_alpha_q30 = 0;
+    cfg.effects.hysteresis_width_q40 = 0;
+    cfg.effects.hysteresis_inv_width_q48 = 0;
+    cfg.effects.pad = 0;
+    cfg.pad = 0;
     return cfg;
 }
 
@@ -56,6 +61,16 @@ ss_status_t ss_actuator_config_check_q(const ss_actuator_config_q_t *cfg, const 
     } else if (cfg->effects.sensor_scale_q30 < -(SS_Q30_ONE / 2) ||
                cfg->effects.sensor_scale_q30 > SS_Q30_ONE / 2) {
         *bad = "effects.sensor_scale_q30";
+    } else if (cfg->effects.hysteresis_alpha_q30 < 0 ||
+               cfg->effects.hysteresis_alpha_q30 > SS_Q_HYSTERESIS_ALPHA_MAX_Q30) {
+        *bad = "effects.hysteresis_alpha_q30";
+    } else if (cfg->effects.hysteresis_alpha_q30 != 0 &&
+               cfg->effects.hysteresis_width_q40 < SS_Q_HYSTERESIS_WIDTH_MIN_Q40) {
+        *bad = "effects.hysteresis_width_q40";
+    } else if (cfg->effects.hysteresis_alpha_q30 != 0 &&
+               ss_abs64(cfg->effects.hysteresis_inv_width_q48 * cfg->effects.hysteresis_width_q40 -
+                        ((int64_t)1 << 48)) > cfg->effects.hysteresis_width_q40) {
+        *bad = "effects.hysteresis_inv_width_q48"; /* not 2^48 / width */
     } else {
         return ss_friction_config_check_named_q(&cfg->friction, 1, bad);
     }
@@ -89,6 +104,8 @@ ss_status_t ss_actuator_init_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     st->drive_q16 = drive0_q16;
     st->amp_q24 = (int64_t)drive0_q16 * 256;
     st->x_p_q40 = strain_q40(cfg, drive0_q16);
+    st->strain_q40 = st->x_p_q40; /* virgin hysteresis: h = 0 */
+    st->hysteresis_q40 = 0;
     st->x_rod_q40 = st->x_p_q40; /* static equilibrium: no friction at the virgin state */
     st->v_rod_q28 = 0;
     st->x_slider_q40 = 0;
@@ -111,7 +128,7 @@ static void kick(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st)
 /* The amplifier: the piezo voltage follows the drive at most slew_q24 per step. The strain is
  * taken from it rounded to Q16.16, the drive's own grid (0.7 fm at 44 nm/V). Without a limit the
  * voltage is the drive and the strain the base model's, bit for bit. */
-static int32_t piezo_strain_q40(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+static int32_t ideal_strain_q40(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
                                 int32_t drive_q16)
 {
     const int64_t target = (int64_t)drive_q16 * 256;
@@ -122,6 +139,31 @@ static int32_t piezo_strain_q40(const ss_actuator_config_q_t *cfg, ss_actuator_s
     const int64_t slew = cfg->effects.slew_q24;
     st->amp_q24 += ss_clamp64(target - st->amp_q24, -slew, slew);
     return strain_q40(cfg, ss_sat32(ss_shr_round(st->amp_q24, 8)));
+}
+
+/* The piezo strain at the end of the step: the ideal strain u less the Bouc-Wen hysteresis h, which
+ * relaxes over a monotone du to sgn(du) alpha width over the strain distance width (the float
+ * family's exact solution, h_inf + (h - h_inf) exp(-|du| / width)). */
+static int32_t piezo_strain_q40(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                                int32_t drive_q16)
+{
+    const int32_t u = ideal_strain_q40(cfg, st, drive_q16);
+    const ss_effects_config_q_t *e = &cfg->effects;
+    if (e->hysteresis_alpha_q30 != 0) {
+        const int64_t du = (int64_t)u - st->strain_q40;
+        const int64_t adu = ss_abs64(du);
+        const int64_t width = e->hysteresis_width_q40;
+        const int64_t h_inf = ss_sign32(du) * ss_shr_round((int64_t)e->hysteresis_alpha_q30 * width, 30);
+        /* |du| / width in Q32 from the reciprocal; beyond 24 widths exp(-x) is below 2^-34: 0 */
+        const int64_t decay =
+            (adu >= 24 * width)
+                ? 0
+                : ss_exp_neg_q32_q30((uint64_t)ss_shr_round(adu * e->hysteresis_inv_width_q48, 16));
+        st->hysteresis_q40 =
+            ss_sat32(h_inf + ss_shr_round(((int64_t)st->hysteresis_q40 - h_inf) * decay, 30));
+    }
+    st->strain_q40 = u;
+    return ss_sat32((int64_t)u - st->hysteresis_q40);
 }
 
 ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,

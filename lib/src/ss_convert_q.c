@@ -131,12 +131,10 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
     }
     /* the q family models the load, the slew limit and the sensor scale (ss_effects_q.h); a config
      * that asks for another effect is refused by its field name, never run without it. */
-    static const char *const effect_names[] = {"effects.hysteresis_alpha", "effects.creep_ratio",
-                                               "effects.friction_gradient_per_m",
+    static const char *const effect_names[] = {"effects.creep_ratio", "effects.friction_gradient_per_m",
                                                "effects.thermal_coeff_per_j", "effects.base_mass_kg"};
-    const float switches[] = {in->effects.hysteresis_alpha, in->effects.creep_ratio,
-                              in->effects.friction_gradient_per_m, in->effects.thermal_coeff_per_j,
-                              in->effects.base_mass_kg};
+    const float switches[] = {in->effects.creep_ratio, in->effects.friction_gradient_per_m,
+                              in->effects.thermal_coeff_per_j, in->effects.base_mass_kg};
     for (size_t i = 0; i < sizeof switches / sizeof switches[0]; ++i) {
         if (switches[i] != 0.0f) {
             *bad = effect_names[i];
@@ -205,6 +203,22 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
         return SS_ERR_RANGE;
     }
     out->effects.sensor_scale_q30 = (int32_t)v;
+    /* the hysteresis: alpha (the float check held it in [0, 0.9]), the width and its reciprocal */
+    out->effects.hysteresis_alpha_q30 =
+        (int32_t)floor((double)in->effects.hysteresis_alpha * SS_QF_ONE(30) + 0.5);
+    out->effects.hysteresis_width_q40 = 0;
+    out->effects.hysteresis_inv_width_q48 = 0;
+    out->effects.pad = 0;
+    out->pad = 0;
+    if (out->effects.hysteresis_alpha_q30 != 0) {
+        if (!to_int((double)in->effects.hysteresis_width_m * SS_QF_ONE(SS_QF_LENGTH),
+                    (double)SS_Q_HYSTERESIS_WIDTH_MIN_Q40, i32max, &v)) {
+            *bad = "effects.hysteresis_width_m";
+            return SS_ERR_RANGE;
+        }
+        out->effects.hysteresis_width_q40 = (int32_t)v;
+        out->effects.hysteresis_inv_width_q48 = (int64_t)floor(SS_QF_ONE(48) / (double)v + 0.5);
+    }
     st = friction_to_q(&in->friction, 1, &out->friction, bad);
     if (st == SS_OK) {
         st = ss_actuator_config_check_q(out, NULL);

@@ -85,10 +85,15 @@ static void test_converter_names_bad_fields(void **unused)
     }
     /* effects the q family does not model are refused by name, never silently dropped */
     c = ok;
-    c.effects.hysteresis_alpha = 0.1f;
-    c.effects.hysteresis_width_m = 1e-6f;
+    c.effects.creep_ratio = 0.1f;
+    c.effects.creep_tau_s = 1e-2f;
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
-    assert_string_equal(bad, "effects.hysteresis_alpha");
+    assert_string_equal(bad, "effects.creep_ratio");
+    c = ok; /* a hysteresis narrower than the q family's 0.93 nm */
+    c.effects.hysteresis_alpha = 0.1f;
+    c.effects.hysteresis_width_m = 1e-10f;
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "effects.hysteresis_width_m");
     /* the effects it models: converted, or refused by name beyond what their formats hold */
     c = ok;
     c.effects.load_n = 0.2f;
@@ -492,9 +497,11 @@ static void test_q_actuator_steps_match_float(void **unused)
 static void test_q_effects_steps_match_float(void **unused)
 {
     (void)unused;
-    const float loads[] = {0.2f, -0.2f, 0.0f, 0.0f, 0.2f, 0.0f, 0.0f, 0.2f};
-    const float slews[] = {0.0f, 0.0f, 1e6f, 3e6f, 3e6f, 0.0f, 0.0f, 0.0f};
-    const float asyms[] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.2f, -0.2f, -0.2f};
+    const float loads[] = {0.2f, -0.2f, 0.0f, 0.0f, 0.2f, 0.0f, 0.0f, 0.2f, 0.0f, 0.0f, 0.2f};
+    const float slews[] = {0.0f, 0.0f, 1e6f, 3e6f, 3e6f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 3e6f};
+    const float asyms[] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.2f, -0.2f, -0.2f, 0.0f, 0.0f, 0.0f};
+    const float hyst_alpha[] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.1f, 0.3f, 0.3f};
+    const float hyst_width_m[] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1e-6f, 2e-7f, 2e-7f};
     const double freqs[] = {300.0, 500.0, 1000.0, 2000.0};
     double worst_all = 0.0;
     for (int model = 0; model < 2; ++model) {
@@ -506,6 +513,8 @@ static void test_q_effects_steps_match_float(void **unused)
                 cf.effects.load_n = loads[e];
                 cf.effects.slew_v_per_s = slews[e];
                 cf.friction.asymmetry = asyms[e];
+                cf.effects.hysteresis_alpha = hyst_alpha[e];
+                cf.effects.hysteresis_width_m = hyst_width_m[e];
                 double xf[9], xq[9];
                 run_both(cf, freqs[i], 100.0, 0.95, 8, xf, xq, 0);
                 const double floor_m = 1e-3 * 100.0 * (double)cf.piezo_gain_m_per_v;
@@ -516,14 +525,15 @@ static void test_q_effects_steps_match_float(void **unused)
                     assert_true(err < 0.01);
                 }
             }
-            print_message(
-                "%-5s load %+.1f N, slew %.0f V/us, asymmetry %+.1f: worst per-cycle step error %.4f %%\n",
-                model ? "lugre" : "ls", (double)loads[e], (double)slews[e] * 1e-6, (double)asyms[e],
-                100.0 * worst);
+            print_message("%-5s load %+.1f N, slew %.0f V/us, asymmetry %+.1f, hysteresis %.1f over %.1f um: "
+                          "worst per-cycle step error %.4f %%\n",
+                          model ? "lugre" : "ls", (double)loads[e], (double)slews[e] * 1e-6, (double)asyms[e],
+                          (double)hyst_alpha[e], (double)hyst_width_m[e] * 1e6, 100.0 * worst);
             worst_all = fmax(worst_all, worst);
         }
     }
-    print_message("q effects (load, slew, asymmetry): worst per-cycle step error %.4f %% of the float step\n",
+    print_message("q effects (load, slew, asymmetry, hysteresis): worst per-cycle step error %.4f %% of the "
+                  "float step\n",
                   100.0 * worst_all);
 }
 

@@ -410,5 +410,5 @@ def test_a_model_the_node_cannot_run_is_refused_by_name(tcp_node):
         with pytest.raises(NodeError, match="model: effects.hysteresis_width_m"):
             c.set_model({"load_n": 0.3, "hysteresis_alpha": 0.2, "hysteresis_width_m": 0.0})
         assert c.get("load_n") == 0.0
-    with pytest.raises(HilError, match="hysteresis_alpha: the fixed-point node does not model"):
+    with pytest.raises(HilError, match="creep_ratio: the fixed-point node does not model"):
         HostNode("tcp", variant="q", model=m)

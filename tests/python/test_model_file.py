@@ -116,7 +116,14 @@ def _compiled(tmp_path: Path, m: MF.ModelFile) -> tuple[bytes, bytes]:
         MF.ModelFile(
             ActuatorParams.table1(),
             "ls",
-            Effects(load_n=-0.1, slew_v_per_s=2e6, sensor_scale_error=0.02, friction_asymmetry=0.2),
+            Effects(
+                load_n=-0.1,
+                slew_v_per_s=2e6,
+                sensor_scale_error=0.02,
+                friction_asymmetry=0.2,
+                hysteresis_alpha=0.1,
+                hysteresis_width_m=3e-7,
+            ),
         ),
         MF.ModelFile(
             ActuatorParams.table1(),
@@ -138,7 +145,7 @@ def test_the_c_header_compiles_to_the_librarys_config(tmp_path, m):
     assert f32 == bytes(m.config())  # every field bit for bit, effects included
     cq = m.config_q()
     assert q == (b"" if cq is None else bytes(cq))
-    # the q family models the load, the slew limit and the sensor scale, not GMS or a hysteresis
+    # the q family models the load, slew limit, sensor scale, asymmetry and hysteresis, not GMS
     assert (cq is None) == (m.law == "gms")
     if cq is not None:
         assert (cq.effects.load_q24, cq.effects.sensor_scale_q30) == (
@@ -227,6 +234,6 @@ def test_a_model_header_compiled_into_the_node_is_its_default(tmp_path):
     out = subprocess.run([str(tmp_path / "q" / "node")], capture_output=True, text=True).stdout
     assert bytes.fromhex(out.split()[-1]) == bytes(m.config_q())
     # an effect it does not model: the build says so instead of running without it
-    h = MF.ModelFile(m.params, "lugre", Effects(hysteresis_alpha=0.1, hysteresis_width_m=1e-6))
+    h = MF.ModelFile(m.params, "lugre", Effects(creep_ratio=0.1, creep_tau_s=1e-2))
     q = _node_with_header(tmp_path / "qh", h, "q")
     assert q.returncode != 0 and "the fixed-point node cannot run this model" in q.stderr

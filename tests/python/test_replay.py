@@ -97,12 +97,19 @@ def test_replay_of_chosen_runs_and_a_run_that_is_not_there(stage, capsys):
 
 
 def test_replay_on_the_fixed_point_node_and_the_m0plus_image(tmp_path):
-    # a model with the effects the q family runs (load, slew, sensor scale, asymmetry): the q node
+    # a model with the effects the q family runs (all but creep, heat, position, base): the q node
     # on the host and the ARMv6-M image in QEMU give the same figures bit for bit (integer
     # arithmetic); against the float node the replay error moves by at most the q family's
     # per-cycle error, 4 cycles x 1 % of a 0.8 um step (docs/fixed-point.md)
     need_firmware("qemu-m0plus-q")
-    fx = Effects(load_n=0.1, slew_v_per_s=3e6, sensor_scale_error=0.02, friction_asymmetry=0.1)
+    fx = Effects(
+        load_n=0.1,
+        slew_v_per_s=3e6,
+        sensor_scale_error=0.02,
+        friction_asymmetry=0.1,
+        hysteresis_alpha=0.1,
+        hysteresis_width_m=3e-7,
+    )
     truth = synth.Truth(ActuatorParams.table1(), fx, ("external_load",))
     design = [synth.RunDesign(f"f500_{d}", 500.0, 100.0, d, 4) for d in (1, -1)]
     ds = D.load(synth.generate(tmp_path / "ds", truth, seed=3, design=design))

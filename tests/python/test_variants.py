@@ -64,11 +64,9 @@ def test_properties_hold_for_both_variants(variant):
 
 
 def test_q_refuses_what_it_does_not_model():
-    with pytest.raises(ValueError, match="effects.hysteresis_alpha"):
+    with pytest.raises(ValueError, match="effects.creep_ratio"):
         simulate(
-            Sawtooth(cycles=1),
-            variant="q",
-            effects=Effects(hysteresis_alpha=0.1, hysteresis_width_m=1e-6),
+            Sawtooth(cycles=1), variant="q", effects=Effects(creep_ratio=0.1, creep_tau_s=1e-2)
         )
     with pytest.raises(ValueError, match="sampled drive"):
         simulate(None, variant="q", drive_v=np.zeros(10), drive_interval_s=1e-5)
