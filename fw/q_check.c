@@ -79,6 +79,11 @@ int main(void)
     fx.effects.hysteresis_alpha_q30 = 1 << 28; /* 0.25 over 2^20 x 2^-40 m (0.95 um) */
     fx.effects.hysteresis_width_q40 = 1 << 20;
     fx.effects.hysteresis_inv_width_q48 = (int64_t)1 << 28;
+    fx.effects.base_kick_q40 = 27487791; /* 20 g at 1 us */
+    fx.effects.base_stiffness_n_per_m = 12633094;
+    fx.effects.base_damping_q16 = 3292990;
+    fx.effects.piezo_stiffness_n_per_m = 208000000;
+    fx.effects.piezo_damping_q16 = 406323;
     static ss_actuator_state_q_t sf;
     ok = ok && ss_actuator_init_q(&fx, &sf, 0) == SS_OK;
     ss_actuator_place_slider_q(&sf, 1000);
@@ -86,6 +91,8 @@ int main(void)
     /* 1 V of 44 nm/V rises the hysteresis toward alpha width = 2^18, and the strain is u - h */
     ok = ok && sf.hysteresis_q40 > 0 && sf.hysteresis_q40 < (1 << 18) &&
          sf.x_p_q40 == sf.strain_q40 - sf.hysteresis_q40;
+    /* the piezo's extension pushed the base back (the rod forward) */
+    ok = ok && sf.v_base_q28 < 0 && sf.xp_rate_q28 > 0;
     ok = ok && ss_actuator_sensor_q(&fx, (int64_t)1 << 40) == ((int64_t)1 << 40) + ((int64_t)1 << 35);
     /* a contact a quarter stronger under a positive load, as strong unloaded */
     fr.asymmetry_q30 = 1 << 28;

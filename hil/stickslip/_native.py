@@ -154,6 +154,17 @@ class EffectsConfigQ(C.Structure):
         ("hysteresis_width_q40", C.c_int32),
         ("pad", C.c_int32),
         ("hysteresis_inv_width_q48", C.c_int64),
+        *[
+            (n, C.c_int32)
+            for n in (
+                "base_kick_q40",
+                "base_stiffness_n_per_m",
+                "base_damping_q16",
+                "piezo_stiffness_n_per_m",
+                "piezo_damping_q16",
+                "pad2",
+            )
+        ],
     ]
 
 

@@ -29,6 +29,16 @@ typedef struct {
     int32_t hysteresis_width_q40;
     int32_t pad; /* zero: no implicit padding, so configs compare byte for byte on every target */
     int64_t hysteresis_inv_width_q48;
+    /* base_compliance: the piezo pushes against a base mass on a spring-damper to ground. 0 = off, else
+     * base_kick = dt / (2 m_b), (m/s)/N at 2^-40, in (0, 2^31); k_b whole N/m; c_b N s/m in Q16.16; and the
+     * piezo's own k (whole N/m) and c (Q16.16), which the base feels (the rod's flow takes them as lag_q24)
+     */
+    int32_t base_kick_q40;
+    int32_t base_stiffness_n_per_m;
+    int32_t base_damping_q16;
+    int32_t piezo_stiffness_n_per_m;
+    int32_t piezo_damping_q16;
+    int32_t pad2; /* zero */
 } ss_effects_config_q_t;
 
 #endif /* SS_EFFECTS_Q_H */

@@ -29,6 +29,12 @@ ss_actuator_config_q_t ss_actuator_config_table1_q(void)
     cfg.effects.hysteresis_width_q40 = 0;
     cfg.effects.hysteresis_inv_width_q48 = 0;
     cfg.effects.pad = 0;
+    cfg.effects.base_kick_q40 = 0;
+    cfg.effects.base_stiffness_n_per_m = 0;
+    cfg.effects.base_damping_q16 = 0;
+    cfg.effects.piezo_stiffness_n_per_m = 0;
+    cfg.effects.piezo_damping_q16 = 0;
+    cfg.effects.pad2 = 0;
     cfg.pad = 0;
     return cfg;
 }
@@ -71,6 +77,12 @@ ss_status_t ss_actuator_config_check_q(const ss_actuator_config_q_t *cfg, const 
                ss_abs64(cfg->effects.hysteresis_inv_width_q48 * cfg->effects.hysteresis_width_q40 -
                         ((int64_t)1 << 48)) > cfg->effects.hysteresis_width_q40) {
         *bad = "effects.hysteresis_inv_width_q48"; /* not 2^48 / width */
+    } else if (cfg->effects.base_kick_q40 < 0) {
+        *bad = "effects.base_kick_q40";
+    } else if (cfg->effects.base_kick_q40 != 0 &&
+               (cfg->effects.base_stiffness_n_per_m < 0 || cfg->effects.base_damping_q16 < 0 ||
+                cfg->effects.piezo_stiffness_n_per_m <= 0 || cfg->effects.piezo_damping_q16 < 0)) {
+        *bad = "effects.base_stiffness_n_per_m"; /* a base needs its spring and the piezo's */
     } else {
         return ss_friction_config_check_named_q(&cfg->friction, 1, bad);
     }
@@ -113,6 +125,10 @@ ss_status_t ss_actuator_init_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     st->force_q24 = 0;
     st->steps = 0u;
     st->pad = 0u;
+    st->x_base_q40 = 0;
+    st->v_base_q28 = 0;
+    st->xp_rate_q28 = 0;
+    st->pad2 = 0;
     return SS_OK;
 }
 
@@ -123,6 +139,21 @@ static void kick(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st)
     const int64_t on_slider = (int64_t)st->force_q24 + cfg->effects.load_q24;
     st->v_rod_q28 = ss_sat32(st->v_rod_q28 - ss_shr_round((int64_t)st->force_q24 * cfg->kick_rod_q40, 36));
     st->v_slider_q28 = ss_sat32(st->v_slider_q28 + ss_shr_round(on_slider * cfg->kick_slider_q40, 36));
+    const ss_effects_config_q_t *e = &cfg->effects;
+    if (e->base_kick_q40 != 0) {
+        /* the base's spring-damper, and the piezo pushing it with -F_p (it pushes the rod with F_p):
+         * N/m times m at 2^-40 is N at 2^-40, Q16 N s/m times m/s at 2^-28 is N at 2^-44 */
+        const int64_t f_piezo = ss_shr_round((int64_t)e->piezo_stiffness_n_per_m *
+                                                 ((int64_t)st->x_p_q40 + st->x_base_q40 - st->x_rod_q40),
+                                             16) +
+                                ss_shr_round((int64_t)e->piezo_damping_q16 *
+                                                 ((int64_t)st->xp_rate_q28 + st->v_base_q28 - st->v_rod_q28),
+                                             20);
+        const int64_t f_base = -ss_shr_round((int64_t)e->base_stiffness_n_per_m * st->x_base_q40, 16) -
+                               ss_shr_round((int64_t)e->base_damping_q16 * st->v_base_q28, 20) - f_piezo;
+        st->v_base_q28 = ss_sat32(
+            st->v_base_q28 + ss_shr_round(ss_clamp64(f_base, -INT32_MAX, INT32_MAX) * e->base_kick_q40, 36));
+    }
 }
 
 /* The amplifier: the piezo voltage follows the drive at most slew_q24 per step. The strain is
@@ -182,22 +213,34 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
      * forced response is x_p(t) - c b / k, the rest e is free. Intermediates saturate at the
      * formats' ranges (a drive jump beyond 8 m/s of strain rate is not a physical drive). */
     const int32_t x_p1 = piezo_strain_q40(cfg, st, drive_q16);
-    const int64_t dxp = ss_sat32((int64_t)x_p1 - st->x_p_q40);
+    /* the anchor a = strain + base (the base drifts at its velocity; 0 without one) */
+    const int32_t x_b1 =
+        (cfg->effects.base_kick_q40 == 0)
+            ? 0
+            : ss_sat32((int64_t)st->x_base_q40 + ss_shr_round((int64_t)st->v_base_q28 * dt, 28));
+    const int64_t a0 = (int64_t)st->x_p_q40 + st->x_base_q40;
+    const int64_t a1 = (int64_t)x_p1 + x_b1;
+    const int64_t dxp = ss_sat32(a1 - a0);
     const int64_t b = ss_sat32(ss_div_round(dxp * ((int64_t)1 << SS_QF_DXDT), dt)); /* m/s at 2^-28 */
     const int64_t lag = ss_shr_round((int64_t)cfg->lag_q24 * dxp, SS_QF_LAG);       /* c b / k, m at 2^-40 */
-    const int64_t e0 = ss_sat32((int64_t)st->x_rod_q40 - (st->x_p_q40 - lag));
+    const int64_t e0 = ss_sat32((int64_t)st->x_rod_q40 - (a0 - lag));
     const int64_t ed0 = ss_sat32((int64_t)st->v_rod_q28 - b);
     const int32_t *phi = cfg->phi_q28;
     /* e1 = phi00 e0 + (phi01/dt) (e0' dt);  e1' = (phi10 dt) e0 / dt + phi11 e0' */
     const int64_t w = ss_sat32(ss_shr_round(phi[1] * ed0, 28)); /* m/s at 2^-28 */
     const int64_t e1 = ss_shr_round(phi[0] * e0, 28) + ss_shr_round(w * dt, 28);
     const int64_t ed1 = ss_div_round(phi[2] * e0, dt) + ss_shr_round(phi[3] * ed0, 28);
-    const int32_t x_rod1 = ss_sat32(x_p1 - lag + e1);
+    const int32_t x_rod1 = ss_sat32(a1 - lag + e1);
     const int32_t dx_slider = ss_sat32(ss_shr_round((int64_t)st->v_slider_q28 * dt, 28));
     const int32_t dx_rel = ss_sat32((int64_t)x_rod1 - st->x_rod_q40 - dx_slider);
     st->x_rod_q40 = x_rod1;
     st->v_rod_q28 = ss_sat32(b + ed1);
-    st->x_slider_q40 += dx_slider; /* the same increment the friction sees: no drift between them */
+    st->x_slider_q40 += dx_slider;         /* the same increment the friction sees: no drift between them */
+    if (cfg->effects.base_kick_q40 != 0) { /* the piezo damper's share, for the base's kicks */
+        st->xp_rate_q28 =
+            ss_sat32(ss_div_round(((int64_t)x_p1 - st->x_p_q40) * ((int64_t)1 << SS_QF_DXDT), dt));
+    }
+    st->x_base_q40 = x_b1;
     st->x_p_q40 = x_p1;
     st->drive_q16 = drive_q16;
 

@@ -132,9 +132,9 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
     /* the q family models the load, the slew limit and the sensor scale (ss_effects_q.h); a config
      * that asks for another effect is refused by its field name, never run without it. */
     static const char *const effect_names[] = {"effects.creep_ratio", "effects.friction_gradient_per_m",
-                                               "effects.thermal_coeff_per_j", "effects.base_mass_kg"};
+                                               "effects.thermal_coeff_per_j"};
     const float switches[] = {in->effects.creep_ratio, in->effects.friction_gradient_per_m,
-                              in->effects.thermal_coeff_per_j, in->effects.base_mass_kg};
+                              in->effects.thermal_coeff_per_j};
     for (size_t i = 0; i < sizeof switches / sizeof switches[0]; ++i) {
         if (switches[i] != 0.0f) {
             *bad = effect_names[i];
@@ -209,7 +209,41 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
     out->effects.hysteresis_width_q40 = 0;
     out->effects.hysteresis_inv_width_q48 = 0;
     out->effects.pad = 0;
+    out->effects.pad2 = 0;
     out->pad = 0;
+    out->effects.base_kick_q40 = 0;
+    out->effects.base_stiffness_n_per_m = 0;
+    out->effects.base_damping_q16 = 0;
+    out->effects.piezo_stiffness_n_per_m = 0;
+    out->effects.piezo_damping_q16 = 0;
+    if (in->effects.base_mass_kg != 0.0f) {
+        /* the base on its spring: k_b = m w^2, c_b = 2 zeta m w (the float step's, in double) */
+        const double m_b = (double)in->effects.base_mass_kg;
+        const double w = 6.283185307179586 * (double)in->effects.base_freq_hz;
+        int64_t q[5] = {0, 0, 0, 0, 0};
+        const int fits[5] = {
+            to_int(dt / (2.0 * m_b) * SS_QF_ONE(SS_QF_KICK), 1.0, i32max, &q[0]),
+            to_int(m_b * w * w, 0.0, i32max, &q[1]),
+            to_int(2.0 * (double)in->effects.base_damping_ratio * m_b * w * SS_QF_ONE(SS_QF_DAMPING), 0.0,
+                   i32max, &q[2]),
+            to_int(k, 1.0, i32max, &q[3]),
+            to_int(c * SS_QF_ONE(SS_QF_DAMPING), 0.0, i32max, &q[4]),
+        };
+        static const char *const names[5] = {"effects.base_mass_kg", "effects.base_freq_hz",
+                                             "effects.base_damping_ratio", "piezo_stiffness_n_per_m",
+                                             "piezo_damping_kg_per_s"};
+        for (int i = 0; i < 5; ++i) {
+            if (!fits[i]) {
+                *bad = names[i];
+                return SS_ERR_RANGE;
+            }
+        }
+        out->effects.base_kick_q40 = (int32_t)q[0];
+        out->effects.base_stiffness_n_per_m = (int32_t)q[1];
+        out->effects.base_damping_q16 = (int32_t)q[2];
+        out->effects.piezo_stiffness_n_per_m = (int32_t)q[3];
+        out->effects.piezo_damping_q16 = (int32_t)q[4];
+    }
     if (out->effects.hysteresis_alpha_q30 != 0) {
         if (!to_int((double)in->effects.hysteresis_width_m * SS_QF_ONE(SS_QF_LENGTH),
                     (double)SS_Q_HYSTERESIS_WIDTH_MIN_Q40, i32max, &v)) {

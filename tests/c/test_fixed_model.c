@@ -497,11 +497,19 @@ static void test_q_actuator_steps_match_float(void **unused)
 static void test_q_effects_steps_match_float(void **unused)
 {
     (void)unused;
-    const float loads[] = {0.2f, -0.2f, 0.0f, 0.0f, 0.2f, 0.0f, 0.0f, 0.2f, 0.0f, 0.0f, 0.2f};
-    const float slews[] = {0.0f, 0.0f, 1e6f, 3e6f, 3e6f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 3e6f};
-    const float asyms[] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.2f, -0.2f, -0.2f, 0.0f, 0.0f, 0.0f};
-    const float hyst_alpha[] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.1f, 0.3f, 0.3f};
-    const float hyst_width_m[] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1e-6f, 2e-7f, 2e-7f};
+    const float loads[] = {0.2f, -0.2f, 0.0f, 0.0f, 0.2f, 0.0f, 0.0f,
+                           0.2f, 0.0f,  0.0f, 0.2f, 0.0f, 0.0f, 0.2f};
+    const float slews[] = {0.0f, 0.0f, 1e6f, 3e6f, 3e6f, 0.0f, 0.0f,
+                           0.0f, 0.0f, 0.0f, 3e6f, 0.0f, 0.0f, 0.0f};
+    const float asyms[] = {0.0f,  0.0f, 0.0f, 0.0f, 0.0f, 0.2f, -0.2f,
+                           -0.2f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    const float hyst_alpha[] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,
+                                0.0f, 0.1f, 0.3f, 0.3f, 0.0f, 0.0f, 0.1f};
+    const float hyst_width_m[] = {0, 0, 0, 0, 0, 0, 0, 0, 1e-6f, 2e-7f, 2e-7f, 0, 0, 1e-6f};
+    /* base: mass (kg), its resonance (Hz) and damping ratio */
+    const float base_kg[] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0.02f, 0.01f, 0.05f};
+    const float base_hz[] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 4000.0f, 2000.0f, 8000.0f};
+    const float base_zeta[] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0.05f, 0.1f, 0.02f};
     const double freqs[] = {300.0, 500.0, 1000.0, 2000.0};
     double worst_all = 0.0;
     for (int model = 0; model < 2; ++model) {
@@ -515,6 +523,9 @@ static void test_q_effects_steps_match_float(void **unused)
                 cf.friction.asymmetry = asyms[e];
                 cf.effects.hysteresis_alpha = hyst_alpha[e];
                 cf.effects.hysteresis_width_m = hyst_width_m[e];
+                cf.effects.base_mass_kg = base_kg[e];
+                cf.effects.base_freq_hz = base_hz[e];
+                cf.effects.base_damping_ratio = base_zeta[e];
                 double xf[9], xq[9];
                 run_both(cf, freqs[i], 100.0, 0.95, 8, xf, xq, 0);
                 const double floor_m = 1e-3 * 100.0 * (double)cf.piezo_gain_m_per_v;
@@ -525,16 +536,18 @@ static void test_q_effects_steps_match_float(void **unused)
                     assert_true(err < 0.01);
                 }
             }
-            print_message("%-5s load %+.1f N, slew %.0f V/us, asymmetry %+.1f, hysteresis %.1f over %.1f um: "
-                          "worst per-cycle step error %.4f %%\n",
+            print_message("%-5s load %+.1f N, slew %.0f V/us, asymmetry %+.1f, hysteresis %.1f over %.1f um, "
+                          "base %.2f kg at %.0f Hz: worst per-cycle step error %.4f %%\n",
                           model ? "lugre" : "ls", (double)loads[e], (double)slews[e] * 1e-6, (double)asyms[e],
-                          (double)hyst_alpha[e], (double)hyst_width_m[e] * 1e6, 100.0 * worst);
+                          (double)hyst_alpha[e], (double)hyst_width_m[e] * 1e6, (double)base_kg[e],
+                          (double)base_hz[e], 100.0 * worst);
             worst_all = fmax(worst_all, worst);
         }
     }
-    print_message("q effects (load, slew, asymmetry, hysteresis): worst per-cycle step error %.4f %% of the "
-                  "float step\n",
-                  100.0 * worst_all);
+    print_message(
+        "q effects (load, slew, asymmetry, hysteresis, base): worst per-cycle step error %.4f %% of the "
+        "float step\n",
+        100.0 * worst_all);
 }
 
 /* The sensor's scale error: x + e x in integers equals the exact product to the rounding of the

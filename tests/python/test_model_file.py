@@ -123,6 +123,9 @@ def _compiled(tmp_path: Path, m: MF.ModelFile) -> tuple[bytes, bytes]:
                 friction_asymmetry=0.2,
                 hysteresis_alpha=0.1,
                 hysteresis_width_m=3e-7,
+                base_mass_kg=0.02,
+                base_freq_hz=4000.0,
+                base_damping_ratio=0.05,
             ),
         ),
         MF.ModelFile(
@@ -145,7 +148,7 @@ def test_the_c_header_compiles_to_the_librarys_config(tmp_path, m):
     assert f32 == bytes(m.config())  # every field bit for bit, effects included
     cq = m.config_q()
     assert q == (b"" if cq is None else bytes(cq))
-    # the q family models the load, slew limit, sensor scale, asymmetry and hysteresis, not GMS
+    # the q family models the load, slew, sensor scale, asymmetry, hysteresis, base; not GMS
     assert (cq is None) == (m.law == "gms")
     if cq is not None:
         assert (cq.effects.load_q24, cq.effects.sensor_scale_q30) == (

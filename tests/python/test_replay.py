@@ -97,7 +97,7 @@ def test_replay_of_chosen_runs_and_a_run_that_is_not_there(stage, capsys):
 
 
 def test_replay_on_the_fixed_point_node_and_the_m0plus_image(tmp_path):
-    # a model with the effects the q family runs (all but creep, heat, position, base): the q node
+    # a model with the effects the q family runs (all but creep, heat and position): the q node
     # on the host and the ARMv6-M image in QEMU give the same figures bit for bit (integer
     # arithmetic); against the float node the replay error moves by at most the q family's
     # per-cycle error, 4 cycles x 1 % of a 0.8 um step (docs/fixed-point.md)
@@ -109,6 +109,9 @@ def test_replay_on_the_fixed_point_node_and_the_m0plus_image(tmp_path):
         friction_asymmetry=0.1,
         hysteresis_alpha=0.1,
         hysteresis_width_m=3e-7,
+        base_mass_kg=0.02,
+        base_freq_hz=4000.0,
+        base_damping_ratio=0.05,
     )
     truth = synth.Truth(ActuatorParams.table1(), fx, ("external_load",))
     design = [synth.RunDesign(f"f500_{d}", 500.0, 100.0, d, 4) for d in (1, -1)]
