@@ -354,7 +354,7 @@ def simulate(
     drive_interval_s, linearly interpolated), with the C model; effects switch on optional
     physics, x0_m is where the slider starts. variant "q" runs the fixed-point core (sawtooth
     drive, slider starting at 0; of the effects, the load, the slew limit, the sensor scale, the
-    asymmetric friction and the hysteresis:
+    asymmetric friction, the hysteresis and the base:
     the converter refuses the others by name)."""
     if variant not in VARIANTS:
         raise ValueError(f"variant must be one of {VARIANTS}, got {variant!r}")
