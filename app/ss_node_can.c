@@ -175,7 +175,7 @@ static void command(ss_node_can_t *n, const ss_can_cmd_t *c)
         value = (float)n->n_staged;
         n->n_staged = 0u; /* applied or refused: the next model is staged afresh */
         break;
-    case SS_CAN_CMD_RESET: e = ss_node_core_reset(&n->core, c->value, &why); break;
+    case SS_CAN_CMD_RESET: e = ss_node_core_reset(&n->core, c->value, 0.0f, &why); break;
     case SS_CAN_CMD_SET_WAVE: e = set_wave(n, c->index, c->value, &why); break;
     case SS_CAN_CMD_LOAD_WAVE: e = ss_node_core_load_waveform(&n->core, &n->wave_pending, &why); break;
     case SS_CAN_CMD_RUN:

@@ -255,7 +255,7 @@ ss_proto_error_t ss_node_core_set_params(ss_node_core_t *c, const uint8_t *ids, 
     return apply_params(c, &next, "model", why);
 }
 
-ss_proto_error_t ss_node_core_reset(ss_node_core_t *c, float drive0_v, ss_node_refusal_t *why)
+ss_proto_error_t ss_node_core_reset(ss_node_core_t *c, float drive0_v, float x0_m, ss_node_refusal_t *why)
 {
     if (!isfinite(drive0_v)) {
         return refuse(why, SS_PERR_NON_FINITE, "drive0_v", "not a finite number");
@@ -263,7 +263,14 @@ ss_proto_error_t ss_node_core_reset(ss_node_core_t *c, float drive0_v, ss_node_r
     if (fabsf(drive0_v) > SS_NODE_MAX_DRIVE_V) {
         return refuse(why, SS_PERR_OUT_OF_RANGE, "drive0_v", "outside " SS_NODE_MAX_DRIVE_V_TEXT);
     }
+    if (!isfinite(x0_m)) {
+        return refuse(why, SS_PERR_NON_FINITE, "x0_m", "not a finite number");
+    }
+    if (fabsf(x0_m) > 1.0f) {
+        return refuse(why, SS_PERR_OUT_OF_RANGE, "x0_m", "outside [-1, 1] m");
+    }
     rest(c, ss_node_model_drive_from_v(drive0_v));
+    ss_node_model_place_slider(&c->st, x0_m);
     return SS_PERR_NONE;
 }
 

@@ -98,8 +98,8 @@ ss_proto_error_t ss_node_core_set_param(ss_node_core_t *core, uint32_t id, float
  * rest as after SET_PARAM. */
 ss_proto_error_t ss_node_core_set_params(ss_node_core_t *core, const uint8_t *ids, const float *values,
                                          uint32_t n, ss_node_refusal_t *why);
-/* The model at rest at drive0_v; the waveform restarts at t = 0. */
-ss_proto_error_t ss_node_core_reset(ss_node_core_t *core, float drive0_v, ss_node_refusal_t *why);
+/* The model at rest at drive0_v with the slider at x0_m (|x0_m| <= 1 m); the waveform restarts at t = 0. */
+ss_proto_error_t ss_node_core_reset(ss_node_core_t *core, float drive0_v, float x0_m, ss_node_refusal_t *why);
 /* Checks and loads a sawtooth; the model goes to rest at its start. A field out of range is
  * refused with the field's name as why->what ("frequency_hz") and its range as why->why. */
 ss_proto_error_t ss_node_core_load_waveform(ss_node_core_t *core, const ss_waveform_config_f32_t *w,

@@ -53,6 +53,8 @@ ss_status_t ss_node_model_config(const ss_actuator_config_f32_t *f, ss_node_conf
 void ss_node_model_init(const ss_node_config_t *cfg, ss_node_state_t *st, ss_node_drive_t d);
 void ss_node_model_step(const ss_node_config_t *cfg, ss_node_state_t *st, ss_node_drive_t d);
 ss_node_row_t ss_node_model_row(const ss_node_state_t *st);
+/* Put the slider at x_m (where a measured run starts; q: rounded to 2^-40 m in double). */
+void ss_node_model_place_slider(ss_node_state_t *st, float x_m);
 
 /* The sawtooth player in the family's form. */
 ss_status_t ss_node_model_wave_convert(const ss_waveform_config_f32_t *w, ss_node_wave_t *out,

@@ -32,6 +32,11 @@ void ss_node_model_init(const ss_node_config_t *cfg, ss_node_state_t *st, ss_nod
     (void)ss_actuator_init_f32(cfg, st, d);
 }
 
+void ss_node_model_place_slider(ss_node_state_t *st, float x_m)
+{
+    ss_actuator_place_slider_f32(st, x_m);
+}
+
 void ss_node_model_step(const ss_node_config_t *cfg, ss_node_state_t *st, ss_node_drive_t d)
 {
     (void)ss_actuator_step_f32(cfg, st, d);

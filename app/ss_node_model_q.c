@@ -4,6 +4,7 @@
  * to this application. Every conversion below gives the same bits on every target. */
 #include "ss_node_model.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "ss_convert_q.h" /* float32 and SI at the node's edges */
@@ -75,6 +76,13 @@ ss_status_t ss_node_model_config(const ss_actuator_config_f32_t *f, ss_node_conf
 void ss_node_model_init(const ss_node_config_t *cfg, ss_node_state_t *st, ss_node_drive_t d)
 {
     (void)ss_actuator_init_q(cfg, st, d);
+}
+
+/* x 2^40 and the + 1/2 are exact in double for the node's |x| <= 1 m, and floor is exact: the
+ * same integer on every target. */
+void ss_node_model_place_slider(ss_node_state_t *st, float x_m)
+{
+    ss_actuator_place_slider_q(st, (int64_t)floor((double)x_m * 1099511627776.0 + 0.5));
 }
 
 void ss_node_model_step(const ss_node_config_t *cfg, ss_node_state_t *st, ss_node_drive_t d)

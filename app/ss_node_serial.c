@@ -245,12 +245,13 @@ static void handle_set_model(ss_node_serial_t *n)
 static void handle_reset(ss_node_serial_t *n)
 {
     const ss_proto_packet_t *pk = &n->pkt;
-    if (pk->len != 4u) {
-        send_err(n, SS_PERR_BAD_PAYLOAD, "RESET takes f32 drive0_v", "");
+    if (pk->len != 4u && pk->len != 8u) {
+        send_err(n, SS_PERR_BAD_PAYLOAD, "RESET takes f32 drive0_v [, f32 x0_m]", "");
         return;
     }
     ss_node_refusal_t why;
-    const ss_proto_error_t e = ss_node_core_reset(&n->core, ss_get_f32(pk->payload), &why);
+    const float x0_m = (pk->len == 8u) ? ss_get_f32(pk->payload + 4) : 0.0f;
+    const ss_proto_error_t e = ss_node_core_reset(&n->core, ss_get_f32(pk->payload), x0_m, &why);
     if (e != SS_PERR_NONE) {
         send_refusal(n, e, &why);
         return;

@@ -75,7 +75,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             (void)ss_node_core_set_param(&core, id, take_f32(&o), &why);
             break;
         }
-        case 1: /* RESET */ (void)ss_node_core_reset(&core, take_f32(&o), &why); break;
+        case 1: { /* RESET: drive, then where the slider starts */
+            const float drive0 = take_f32(&o);
+            (void)ss_node_core_reset(&core, drive0, take_f32(&o), &why);
+            break;
+        }
         case 2: { /* DRIVE_BLOCK: a few rows of one value */
             const float v = take_f32(&o);
             const uint32_t rows = 1u + take_u8(&o) % 40u;

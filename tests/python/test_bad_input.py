@@ -508,6 +508,9 @@ def _node_frame_cases():
         ("RESET cut short", P.frame(P.RESET, 0, b"\x00"), "bad_payload", "f32 drive0_v"),
         ("RESET inf", P.frame(P.RESET, 0, f("<f", math.inf)), "non_finite", "drive0_v"),
         ("RESET 1e6 V", P.frame(P.RESET, 0, f("<f", 1e6)), "out_of_range", "[-1e5, 1e5] V"),
+        ("RESET x0 NaN", P.frame(P.RESET, 0, f("<ff", 0.0, math.nan)), "non_finite", "x0_m"),
+        ("RESET x0 2 m", P.frame(P.RESET, 0, f("<ff", 0.0, 2.0)), "out_of_range", "[-1, 1] m"),
+        ("RESET 6 bytes", P.frame(P.RESET, 0, b"\x00" * 6), "bad_payload", "f32 x0_m"),
         ("LOAD_WAVEFORM short", P.frame(P.LOAD_WAVEFORM, 0, bytes(10)), "bad_payload", "21 bytes"),
         ("DRIVE_BLOCK empty", P.frame(P.DRIVE_BLOCK, 0, b""), "bad_payload", "u16 + 1..255 f32"),
         (
@@ -539,7 +542,7 @@ def _node_frame_cases():
     ]
 
 
-NODE_FRAME_CASES = list(range(26))
+NODE_FRAME_CASES = list(range(29))
 
 
 @pytest.mark.skipif(

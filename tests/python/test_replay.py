@@ -40,9 +40,8 @@ def test_replay_on_the_host_node_gives_the_batch_evaluation(stage):
     ev = evaluate(runs, Model(m.params, m.effects, m.law, m.causes), NOISE_M)
     with HostNode("tcp") as node, NodeClient(node.url) as c:
         r = replay(c, ds, m)
-    # the node steps the same C model with the same drive as the batch simulation; they differ
-    # only by where the slider starts (0 on the node, the first measured position in the fit:
-    # float32 rounding of the compensated position, ~1e-15 m against errors of nanometres)
+    # the node steps the same C model with the same drive as the batch simulation, from the same
+    # start of the slider (RESET's x0_m)
     assert r["rmse_m"] == pytest.approx(ev.rmse_m, rel=1e-5)
     for run in r["runs"]:
         assert run["rmse_m"] == pytest.approx(ev.per_run[run["id"]]["rmse_m"], rel=1e-5)
@@ -51,6 +50,26 @@ def test_replay_on_the_host_node_gives_the_batch_evaluation(stage):
     with HostNode("tcp") as node, NodeClient(node.url) as c:
         wrong = replay(c, ds, ModelFile(m.params))
     assert wrong["rmse_m"] > 10 * r["rmse_m"]
+
+
+def test_replay_starts_the_slider_where_the_fit_did(tmp_path):
+    # position-dependent friction sees where the slider is: the second run starts where the first
+    # ended (8 um on), and a gradient of 2e4 /m changes the friction there by 16 %. The node's
+    # RESET places the slider at the run's start, as the fit's simulation does, so the replay
+    # gives the batch evaluation's figure back
+    fx = Effects(friction_gradient_per_m=2e4)
+    truth = synth.Truth(ActuatorParams.table1(), fx, ("position_dependent_friction",))
+    design = [synth.RunDesign(f"f500_{d}", 500.0, 100.0, d, 4) for d in (1, -1)]
+    ds = D.load(synth.generate(tmp_path / "ds", truth, seed=4, design=design))
+    m = ModelFile(truth.params, "ls", fx, causes=truth.causes)
+    runs = prepare_all(ds.runs)
+    assert abs(runs[1].x_m[0]) > 5e-6
+    ev = evaluate(runs, Model(m.params, m.effects, m.law, m.causes), NOISE_M)
+    with HostNode("tcp") as node, NodeClient(node.url) as c:
+        r = replay(c, ds, m)
+    for run in r["runs"]:
+        assert run["rmse_m"] == pytest.approx(ev.per_run[run["id"]]["rmse_m"], rel=1e-5)
+    assert r["rmse_m"] < 1.5 * NOISE_M
 
 
 def test_replay_on_the_firmware_in_qemu_matches_the_host(stage):

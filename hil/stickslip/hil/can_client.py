@@ -205,7 +205,10 @@ class CanNodeClient:
         """The node runs `model` from now on (model_values: every parameter, effects included)."""
         self.set_model(model_values(model, self.info.dt_s))
 
-    def reset(self, drive0_v: float = 0.0) -> None:
+    def reset(self, drive0_v: float = 0.0, x0_m: float = 0.0) -> None:
+        """The model at rest at drive0_v; the CAN RESET places the slider at 0 only."""
+        if x0_m != 0.0:
+            raise HilError(f"x0_m: the CAN RESET places the slider at 0 (asked {x0_m!r} m)")
         self.request("RESET", value=drive0_v)
 
     def load_waveform(self, w: Sawtooth) -> None:

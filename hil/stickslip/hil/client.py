@@ -249,8 +249,10 @@ class NodeClient:
         """The node runs `model` from now on (model_values: every parameter, effects included)."""
         self.set_model(model_values(model, self.info.dt_s))
 
-    def reset(self, drive0_v: float = 0.0) -> None:
-        self.request(P.RESET, struct.pack("<f", drive0_v))
+    def reset(self, drive0_v: float = 0.0, x0_m: float = 0.0) -> None:
+        """The model at rest at drive0_v, the slider at x0_m (|x0_m| <= 1 m)."""
+        extra = struct.pack("<f", x0_m) if x0_m != 0.0 else b""  # the short form when at 0
+        self.request(P.RESET, struct.pack("<f", drive0_v) + extra)
 
     def load_waveform(self, w: Sawtooth) -> None:
         payload = struct.pack(

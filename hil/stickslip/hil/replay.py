@@ -3,8 +3,8 @@ the node's slider positions against the measured ones, the error computed as the
 computes its validation error (stickslip.diagnosis.fit.evaluate): at the fit's samples (the
 measured positions anti-alias filtered to at most 50 kS/s), with each run's start placed by least
 squares (fit.placed). A float32 host node steps the same C model with the same drive samples as
-the batch simulation the fits ran; the figures differ only through where the slider starts (0 on
-the node, the first measured position in the fit): 1e-5 relative, tests/python/test_replay.py."""
+the batch simulation the fits ran, from the same start of the slider (RESET's x0_m): the figures
+agree to 1e-5 relative (tests/python/test_replay.py)."""
 
 from __future__ import annotations
 
@@ -58,10 +58,14 @@ def replay_run(
         raise HilError(f"run {run.id}: {dec} steps per sample, more than a DRIVE_BLOCK carries")
     n = len(run.t_s) - 1
     drive = _drive(run, dt, n * dec)
-    client.reset(float(drive[0]))
+    # the slider starts where the fit's simulation started it (fit.predict): what position-dependent
+    # friction sees
+    scale = 1.0 + model.effects.sensor_scale_error
+    x0 = float(np.float32(run.x_m[0] / scale))
+    client.reset(float(drive[0]), x0)
     tel = client.lockstep(drive[1:], block=dec * rows_per_block, decimation=dec, progress=progress)
-    x = np.concatenate([[0.0], tel.x_slider_m])[: n + 1]
-    x = x * (1.0 + model.effects.sensor_scale_error)  # what the sensor reports (x_meas_m)
+    x = np.concatenate([[x0], tel.x_slider_m])[: n + 1]
+    x = x * scale  # what the sensor reports (x_meas_m)
     xn = placed(run, x)
     r = xn - run.x_m
     rss = float(np.sum(r**2))
