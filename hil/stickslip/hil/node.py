@@ -4,7 +4,6 @@ satisfy, and the values and errors they share."""
 
 from __future__ import annotations
 
-import math
 import re
 from dataclasses import dataclass, field
 from typing import Callable, Optional, Protocol, TypeVar
@@ -14,6 +13,7 @@ import numpy as np
 from .. import _native as N
 from ..model import Sawtooth, SimResult
 from ..model_file import ModelFile
+from ..node_params import NODE_DT_S, node_values
 from . import protocol as P
 
 # called with the steps done so far, on long runs (the CLI's progress display)
@@ -61,20 +61,12 @@ def check_socket_url(url: str) -> None:
 
 
 def model_values(model: ModelFile, node_dt_s: float) -> dict[str, float]:
-    """Every node parameter (protocol.PARAM_NAMES) for a model file, or HilError for a model the
-    node cannot run: a law it has not (GMS) or another step than the node's."""
-    if model.law not in P.NODE_LAWS:
-        raise HilError(f"the node runs {' or '.join(P.NODE_LAWS)} friction, the model {model.law}")
-    if not math.isclose(model.dt_s, node_dt_s, rel_tol=1e-6):
-        raise HilError(f"the node steps at {node_dt_s:g} s, the model at {model.dt_s:g} s")
-    values = {k: float(v) for k, v in model.params.to_dict().items()}
-    values["friction_model"] = P.NODE_LAWS[model.law]
-    for k in P.PARAM_NAMES[13:]:
-        values[k] = float(getattr(model.effects, k))
-    return {k: values[k] for k in P.PARAM_NAMES}
-
-
-NODE_DT_S = 1e-6  # the host node's and the firmware's step (HELLO reports it)
+    """Every node parameter (protocol.PARAM_NAMES) for a model file (node_params.node_values), or
+    HilError for a model the node cannot run: a law it has not (GMS) or another step."""
+    try:
+        return node_values(model, node_dt_s)
+    except ValueError as e:
+        raise HilError(str(e)) from None
 
 
 def model_args(model: ModelFile) -> list[str]:
