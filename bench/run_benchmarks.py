@@ -1,7 +1,10 @@
 """Benchmarks of the float core (figures in BENCHMARKS.md):
 
 1. host ns per actuator step and simulated seconds per wall second (bench_step, C);
-2. the same simulation with scipy's Radau at equal accuracy, as a ratio measured in this run.
+2. the same simulation with scipy's Radau at equal accuracy, as a ratio measured in this run;
+3. issue 17's host comparison: the C core against scipy's LSODA on the LuGre actuator (Table I,
+   500 Hz, 100 V, 15 us fall, 20 cycles), each at its loosest setting (the C core's step, LSODA's
+   rtol) whose worst per-cycle step error against a Radau run at rtol 1e-10 is at most 0.1 %.
 
 "Equal accuracy": a tight Radau run (rtol 1e-10) is the truth for 3 cycles of the paper's drive;
 the C core's worst per-cycle step error against it sets the bar; Radau is then timed at the
@@ -87,5 +90,54 @@ def main() -> None:
         )
 
 
+def lsoda_vs_c(limit: float = 1e-3) -> None:
+    """Issue 17, item 5: the loosest C step and the loosest LSODA rtol that hold `limit`."""
+    w = Sawtooth(500.0, 100.0, 0.0, 1.0 - 15e-6 * 500.0, 1, 20)
+    t_truth, truth_r = timed(lambda: simulate_reference(w, model="lugre", rtol=1e-10), 1)
+    truth = truth_r.per_cycle_steps()
+    print(f"\nLuGre, 500 Hz, 15 us fall, 20 cycles: truth (Radau rtol 1e-10) in {t_truth:.1f} s")
+    c_best = None
+    for dt in (0.5e-6, 1e-6, 2e-6, 2.5e-6, 4e-6, 5e-6):
+        steps = simulate(w, model="lugre", dt_s=dt).per_cycle_steps()
+        err = float(np.max(np.abs(steps / truth - 1)))
+        print(f"  C core dt {dt * 1e6:g} us: error {err * 100:.4f} %")
+        if err <= limit:
+            c_best = dt
+    assert c_best is not None, "the C core does not hold the limit at any step"
+    t_c, _ = timed(lambda: simulate(w, model="lugre", dt_s=c_best), 11)
+    best = None
+    for rtol in (1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3):
+        try:
+            t_s, ref = timed(
+                lambda rt=rtol: simulate_reference(
+                    w, model="lugre", rtol=rt, time_limit_s=120, method="LSODA"
+                ),
+                1,
+            )
+        except (TimeoutError, RuntimeError) as e:
+            print(f"  LSODA rtol {rtol:g}: {e}; scan ends")
+            break
+        err = float(np.max(np.abs(ref.per_cycle_steps() / truth - 1)))
+        print(f"  LSODA rtol {rtol:g}: {t_s:.2f} s, error {err * 100:.4f} %")
+        if err > limit:
+            break
+        best = rtol
+    if best is None:
+        print("  LSODA did not hold the limit")
+        return
+    t_s, _ = timed(lambda: simulate_reference(w, model="lugre", rtol=best, method="LSODA"), 3)
+    print(
+        f"  -> at <= {limit * 100:g} %: C core dt {c_best * 1e6:g} us {t_c * 1e3:.2f} ms (median "
+        f"of 11), LSODA rtol {best:g} {t_s:.2f} s (median of 3): the C core is "
+        f"{t_s / t_c:.0f} x faster"
+    )
+
+
 if __name__ == "__main__":
-    main()
+    import sys
+
+    if "--lsoda" in sys.argv:
+        lsoda_vs_c()
+    else:
+        main()
+        lsoda_vs_c()

@@ -96,11 +96,15 @@ def simulate_reference(
     rtol: float = 1e-9,
     hold_s: float = 0.0,
     time_limit_s: float | None = None,
+    method: str = "Radau",
 ) -> ReferenceResult:
-    """Integrate to the end of the waveform (plus hold_s). Raises TimeoutError past time_limit_s
-    of wall time (loose tolerances can chatter on the stick events). LS and LuGre only."""
+    """Integrate to the end of the waveform (plus hold_s) with solve_ivp's method (Radau, or LSODA
+    for the host bench of issue 17). Raises TimeoutError past time_limit_s of wall time (loose
+    tolerances can chatter on the stick events). LS and LuGre only."""
     if model not in ("ls", "lugre"):
         raise ValueError(f"the reference solver integrates 'ls' and 'lugre', got {model!r}")
+    if method not in ("Radau", "LSODA", "BDF"):
+        raise ValueError(f"method must be Radau, LSODA or BDF (stiff solvers), got {method!r}")
     started = time.monotonic()
     p = params or ActuatorParams.table1()
     fs, fc, vs = p.fs_n, p.fc_n, p.stribeck_velocity_m_per_s
@@ -183,7 +187,7 @@ def simulate_reference(
                 rhs,
                 (t, t1),
                 y,
-                method="Radau",
+                method=method,
                 rtol=rtol,
                 atol=atol,
                 events=events,
