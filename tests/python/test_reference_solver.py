@@ -22,3 +22,14 @@ def test_c_core_matches_radau(model):
     assert np.max(np.abs(r.x_slider_m - x_ref)) < 40e-9
     assert np.max(np.abs(r.x_rod_m - np.interp(r.t_s, ref.t_s, ref.x_rod_m))) < 22e-9
     assert ref.reversals > 10  # the solver really went through stick-slip transitions
+
+
+def test_lsoda_and_radau_solve_the_same_equations():
+    # the host bench compares the C core with LSODA (issue 17): LSODA must integrate the same
+    # equations, so at tight tolerances both stiff solvers agree on every cycle's step
+    w = Sawtooth(500.0, 100.0, 0.0, 1.0 - 15e-6 * 500.0, 1, 3)
+    radau = simulate_reference(w, model="lugre", rtol=1e-8).per_cycle_steps()
+    lsoda = simulate_reference(w, model="lugre", rtol=1e-8, method="LSODA").per_cycle_steps()
+    assert np.max(np.abs(lsoda / radau - 1)) < 1e-5
+    with pytest.raises(ValueError, match="stiff solvers"):
+        simulate_reference(w, method="RK45")
