@@ -16,6 +16,8 @@ find build/coverage -name '*.gcda' -delete
 ctest --preset coverage
 echo "C coverage of lib/, proto/, app/ and port/ (the cmocka tests):"
 .venv/bin/gcovr -r . --filter 'lib/' --filter 'proto/' --filter 'app/' --filter 'port/' build/coverage --merge-mode-functions=separate --txt-metric line --print-summary | tail -16
+rm -f .coverage .coverage.*
 .venv/bin/python -m coverage run -m pytest -q tests/python
-echo "Python coverage of the stickslip package (pytest):"
+.venv/bin/python -m coverage combine -q
+echo "Python coverage of the stickslip package (pytest, worker processes included):"
 .venv/bin/python -m coverage report --skip-empty
