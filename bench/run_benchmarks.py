@@ -45,6 +45,35 @@ def timed(fn, repeats: int):
     return statistics.median(times), result
 
 
+def worst_error(steps: np.ndarray, truth: np.ndarray) -> float:
+    """Worst relative per-cycle step error against the truth's steps."""
+    return float(np.max(np.abs(steps / truth - 1)))
+
+
+def loosest_rtol(w, model: str, method: str, truth, bar: float, time_limit_s: float):
+    """The loosest rtol of the reference solver's method (scanning 1e-9 upwards) whose error stays
+    at or below bar, or None. Loose tolerances chatter on the stick events and can take many
+    minutes, so a run over time_limit_s ends the scan."""
+    best = None
+    for rtol in (1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3):
+        try:
+            t_s, ref = timed(
+                lambda rt=rtol: simulate_reference(
+                    w, model=model, rtol=rt, time_limit_s=time_limit_s, method=method
+                ),
+                1,
+            )
+        except (TimeoutError, RuntimeError) as e:
+            print(f"  {method} rtol {rtol:g}: {e}; scan ends")
+            break
+        err = worst_error(ref.per_cycle_steps(), truth)
+        print(f"  {method} rtol {rtol:g}: {t_s:.2f} s, error {err * 100:.4f} %")
+        if err > bar:
+            break
+        best = rtol
+    return best
+
+
 def main() -> None:
     speed = c_speed()
     for m, d in speed.items():
@@ -56,30 +85,12 @@ def main() -> None:
     for model in ("ls", "lugre"):
         truth = simulate_reference(w, model=model, rtol=1e-10).per_cycle_steps()
         t_c, r = timed(lambda model=model: simulate(w, model=model), 11)
-        err_c = float(np.max(np.abs(r.per_cycle_steps() / truth - 1)))
+        err_c = worst_error(r.per_cycle_steps(), truth)
         print(
             f"\n{model}: C core (through Python, with recording) {t_c * 1e3:.2f} ms for 3 cycles, "
             f"worst per-cycle step error {err_c * 100:.3f} %"
         )
-        # from tight to loose; loose tolerances chatter on the stick events and can take many
-        # minutes, so a run over 60 s ends the scan
-        best = None
-        for rtol in (1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3):
-            try:
-                t_s, ref = timed(
-                    lambda m=model, rt=rtol: simulate_reference(
-                        w, model=m, rtol=rt, time_limit_s=60
-                    ),
-                    1,
-                )
-            except TimeoutError:
-                print(f"  Radau rtol {rtol:g}: over 60 s (chatters on the stick events), scan ends")
-                break
-            err = float(np.max(np.abs(ref.per_cycle_steps() / truth - 1)))
-            print(f"  Radau rtol {rtol:g}: {t_s:.2f} s, error {err * 100:.4f} %")
-            if err > err_c:
-                break
-            best = rtol
+        best = loosest_rtol(w, model, "Radau", truth, err_c, time_limit_s=60)
         if best is None:
             print("  Radau did not reach the C core's accuracy")
             continue
@@ -98,30 +109,13 @@ def lsoda_vs_c(limit: float = 1e-3) -> None:
     print(f"\nLuGre, 500 Hz, 15 us fall, 20 cycles: truth (Radau rtol 1e-10) in {t_truth:.1f} s")
     c_best = None
     for dt in (0.5e-6, 1e-6, 2e-6, 2.5e-6, 4e-6, 5e-6):
-        steps = simulate(w, model="lugre", dt_s=dt).per_cycle_steps()
-        err = float(np.max(np.abs(steps / truth - 1)))
+        err = worst_error(simulate(w, model="lugre", dt_s=dt).per_cycle_steps(), truth)
         print(f"  C core dt {dt * 1e6:g} us: error {err * 100:.4f} %")
         if err <= limit:
             c_best = dt
     assert c_best is not None, "the C core does not hold the limit at any step"
     t_c, _ = timed(lambda: simulate(w, model="lugre", dt_s=c_best), 11)
-    best = None
-    for rtol in (1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3):
-        try:
-            t_s, ref = timed(
-                lambda rt=rtol: simulate_reference(
-                    w, model="lugre", rtol=rt, time_limit_s=120, method="LSODA"
-                ),
-                1,
-            )
-        except (TimeoutError, RuntimeError) as e:
-            print(f"  LSODA rtol {rtol:g}: {e}; scan ends")
-            break
-        err = float(np.max(np.abs(ref.per_cycle_steps() / truth - 1)))
-        print(f"  LSODA rtol {rtol:g}: {t_s:.2f} s, error {err * 100:.4f} %")
-        if err > limit:
-            break
-        best = rtol
+    best = loosest_rtol(w, "lugre", "LSODA", truth, limit, time_limit_s=120)
     if best is None:
         print("  LSODA did not hold the limit")
         return

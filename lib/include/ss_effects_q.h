@@ -41,4 +41,11 @@ typedef struct {
     int32_t pad2; /* zero */
 } ss_effects_config_q_t;
 
+/* All off (pads zero): the base model. */
+static inline ss_effects_config_q_t ss_effects_config_none_q(void)
+{
+    const ss_effects_config_q_t none = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    return none;
+}
+
 #endif /* SS_EFFECTS_Q_H */

@@ -22,19 +22,7 @@ ss_actuator_config_q_t ss_actuator_config_table1_q(void)
     cfg.phi_q28[2] = -49035804;
     cfg.phi_q28[3] = 242038569;
     cfg.friction = ss_friction_config_table1_q();
-    cfg.effects.load_q24 = 0;
-    cfg.effects.slew_q24 = 0;
-    cfg.effects.sensor_scale_q30 = 0;
-    cfg.effects.hysteresis_alpha_q30 = 0;
-    cfg.effects.hysteresis_width_q40 = 0;
-    cfg.effects.hysteresis_inv_width_q48 = 0;
-    cfg.effects.pad = 0;
-    cfg.effects.base_kick_q40 = 0;
-    cfg.effects.base_stiffness_n_per_m = 0;
-    cfg.effects.base_damping_q16 = 0;
-    cfg.effects.piezo_stiffness_n_per_m = 0;
-    cfg.effects.piezo_damping_q16 = 0;
-    cfg.effects.pad2 = 0;
+    cfg.effects = ss_effects_config_none_q();
     cfg.pad = 0;
     return cfg;
 }

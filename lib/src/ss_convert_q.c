@@ -183,6 +183,8 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
         out->phi_q28[i] = (int32_t)v;
     }
     out->friction_model = in->friction_model;
+    out->pad = 0;
+    out->effects = ss_effects_config_none_q(); /* filled below where the float config asks */
     /* effects: the load in N at 2^-24, the slew as volts per step at 2^-24 (of the step taken),
      * the sensor's scale error in Q2.30; 0 stays 0 (off) */
     const double lmax = (double)SS_Q_LOAD_MAX_Q24;
@@ -206,16 +208,6 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
     /* the hysteresis: alpha (the float check held it in [0, 0.9]), the width and its reciprocal */
     out->effects.hysteresis_alpha_q30 =
         (int32_t)floor((double)in->effects.hysteresis_alpha * SS_QF_ONE(30) + 0.5);
-    out->effects.hysteresis_width_q40 = 0;
-    out->effects.hysteresis_inv_width_q48 = 0;
-    out->effects.pad = 0;
-    out->effects.pad2 = 0;
-    out->pad = 0;
-    out->effects.base_kick_q40 = 0;
-    out->effects.base_stiffness_n_per_m = 0;
-    out->effects.base_damping_q16 = 0;
-    out->effects.piezo_stiffness_n_per_m = 0;
-    out->effects.piezo_damping_q16 = 0;
     if (in->effects.base_mass_kg != 0.0f) {
         /* the base on its spring: k_b = m w^2, c_b = 2 zeta m w (the float step's, in double) */
         const double m_b = (double)in->effects.base_mass_kg;

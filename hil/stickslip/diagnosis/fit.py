@@ -141,6 +141,12 @@ class Model:
         return out
 
 
+def slider_start_m(run: FitRun, effects: Effects) -> float:
+    """Where a simulation of the run starts the slider: its first measured position through the
+    sensor's scale error (what position-dependent friction sees; predict and the replay's RESET)."""
+    return float(run.x_m[0]) / (1.0 + effects.sensor_scale_error)
+
+
 def sim_step_s(run: FitRun) -> tuple[float, int]:
     """Model step dividing the fit's sample interval exactly, and the decimation."""
     dec = max(1, math.ceil(run.dt_s / MAX_DT_S - 1e-9))
@@ -152,8 +158,7 @@ def predict(run: FitRun, model: Model) -> np.ndarray:
     slider's start is a nuisance offset per run, placed by least squares over the whole run."""
     dt, dec = sim_step_s(run)
     params = major_loop_gain(model.params, model.effects, run.stroke_v)
-    scale = 1.0 + model.effects.sensor_scale_error
-    x0 = float(run.x_m[0]) / scale
+    x0 = slider_start_m(run, model.effects)
     n = len(run.t_s) - 1
     if run.waveform is not None:
         hold = max(0.0, n * run.dt_s - run.waveform.duration_s)

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import dataset as D
-from ..diagnosis.fit import FitRun, placed, prepare_all, sim_step_s
+from ..diagnosis.fit import FitRun, placed, prepare_all, sim_step_s, slider_start_m
 from ..model import drive_samples
 from ..model_file import ModelFile
 from . import protocol as P
@@ -58,14 +58,12 @@ def replay_run(
         raise HilError(f"run {run.id}: {dec} steps per sample, more than a DRIVE_BLOCK carries")
     n = len(run.t_s) - 1
     drive = _drive(run, dt, n * dec)
-    # the slider starts where the fit's simulation started it (fit.predict): what position-dependent
-    # friction sees
-    scale = 1.0 + model.effects.sensor_scale_error
-    x0 = float(np.float32(run.x_m[0] / scale))
+    # the slider starts where the fit's simulation started it: what position-dependent friction sees
+    x0 = float(np.float32(slider_start_m(run, model.effects)))
     client.reset(float(drive[0]), x0)
     tel = client.lockstep(drive[1:], block=dec * rows_per_block, decimation=dec, progress=progress)
     x = np.concatenate([[x0], tel.x_slider_m])[: n + 1]
-    x = x * scale  # what the sensor reports (x_meas_m)
+    x = x * (1.0 + model.effects.sensor_scale_error)  # what the sensor reports (x_meas_m)
     xn = placed(run, x)
     r = xn - run.x_m
     rss = float(np.sum(r**2))
