@@ -59,4 +59,8 @@ float ss_asymmetry_factor_f32(const ss_friction_config_f32_t *cfg, float load);
 /* Slope dg/dv of the Stribeck curve, N s/m. */
 float ss_stribeck_slope_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s);
 
+/* g(v) as ss_stribeck_f32 and its slope into *slope_ns_per_m, from one exponential (the force
+ * laws' implicit step needs both at the same velocity). */
+float ss_stribeck_with_slope_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s, float *slope_ns_per_m);
+
 #endif /* SS_FRICTION_H */

@@ -4,6 +4,7 @@
 #include <stddef.h>
 
 #include "ss_check.h"
+#include "ss_exp_f32.h"
 
 /* Friction never scales below this share of its nominal value: a scaled Fs stays positive. */
 #define SS_EFFECTS_MIN_FRICTION_SCALE 0.1f
@@ -91,9 +92,10 @@ float ss_effects_drive_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_
     /* creep: w follows the voltage with time constant tau (exact for a voltage held over dt) */
     float u = amp;
     if (cfg->creep_ratio > 0.0f) {
-        /* -expm1f: the share relaxed in one step (~dt / tau, 1e-5 and below) keeps its digits,
-         * where 1 - expf would round it to a few float steps and lose tau's gradient */
-        st->creep_v += (amp - st->creep_v) * -expm1f(-dt_s / cfg->creep_tau_s);
+        /* -expm1: the share relaxed in one step (~dt / tau, 1e-5 and below) keeps its digits,
+         * where 1 - exp would round it to a few float steps and lose tau's gradient */
+        float e;
+        st->creep_v += (amp - st->creep_v) * -ss_expm1_neg_f32(dt_s / cfg->creep_tau_s, &e);
         u += cfg->creep_ratio * st->creep_v;
     }
     u *= gain_m_per_v;
@@ -102,7 +104,8 @@ float ss_effects_drive_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_
     if (cfg->hysteresis_alpha > 0.0f) {
         const float du = u - st->strain_m;
         const float h_inf = ss_sign_f32(du) * cfg->hysteresis_alpha * cfg->hysteresis_width_m;
-        st->hysteresis_m = h_inf + (st->hysteresis_m - h_inf) * expf(-fabsf(du) / cfg->hysteresis_width_m);
+        st->hysteresis_m =
+            h_inf + (st->hysteresis_m - h_inf) * ss_exp_neg_f32(fabsf(du) / cfg->hysteresis_width_m);
     }
     st->strain_m = u;
     return u - st->hysteresis_m;
@@ -123,7 +126,8 @@ void ss_effects_heat_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f3
         return;
     }
     /* dissipation is never negative; a negative balance is the elastic model's approximation */
-    const float loss = st->heat_j * -expm1f(-dt_s / cfg->thermal_tau_s); /* as in creep */
+    float e;
+    const float loss = st->heat_j * -ss_expm1_neg_f32(dt_s / cfg->thermal_tau_s, &e); /* as in creep */
     st->heat_j += ((energy_j > 0.0f) ? energy_j : 0.0f) - loss;
 }
 

@@ -4,6 +4,7 @@
 #include <stddef.h>
 
 #include "ss_check.h"
+#include "ss_exp_f32.h"
 
 ss_friction_config_f32_t ss_friction_config_from_mu_f32(float mu_s, float mu_d, float normal_force_n,
                                                         float vs_m_per_s, float sigma0_n_per_m,
@@ -73,10 +74,10 @@ ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg, co
 float ss_stribeck_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s)
 {
     if (v_m_per_s == 0.0f) {
-        return cfg->fc_n + (cfg->fs_n - cfg->fc_n); /* exp(0) = 1: the same sum, no expf (sticking) */
+        return cfg->fc_n + (cfg->fs_n - cfg->fc_n); /* exp(0) = 1: the same sum, no exp (sticking) */
     }
     const float r = v_m_per_s / cfg->vs_m_per_s;
-    return cfg->fc_n + (cfg->fs_n - cfg->fc_n) * expf(-r * r);
+    return cfg->fc_n + (cfg->fs_n - cfg->fc_n) * ss_exp_neg_f32(r * r);
 }
 
 float ss_asymmetry_factor_f32(const ss_friction_config_f32_t *cfg, float load)
@@ -86,9 +87,19 @@ float ss_asymmetry_factor_f32(const ss_friction_config_f32_t *cfg, float load)
 
 float ss_stribeck_slope_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s)
 {
+    float slope;
+    (void)ss_stribeck_with_slope_f32(cfg, v_m_per_s, &slope);
+    return slope;
+}
+
+float ss_stribeck_with_slope_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s, float *slope_ns_per_m)
+{
     if (v_m_per_s == 0.0f) {
-        return 0.0f;
+        *slope_ns_per_m = 0.0f;
+        return cfg->fc_n + (cfg->fs_n - cfg->fc_n);
     }
     const float r = v_m_per_s / cfg->vs_m_per_s;
-    return -2.0f * (cfg->fs_n - cfg->fc_n) * r / cfg->vs_m_per_s * expf(-r * r);
+    const float e = ss_exp_neg_f32(r * r);
+    *slope_ns_per_m = -2.0f * (cfg->fs_n - cfg->fc_n) * r / cfg->vs_m_per_s * e;
+    return cfg->fc_n + (cfg->fs_n - cfg->fc_n) * e;
 }

@@ -4,6 +4,7 @@
 #include <stddef.h>
 
 #include "ss_check.h"
+#include "ss_exp_f32.h"
 
 /* Share alpha_i of the slip level carried by element i (0-based): (2i + 1) / N^2, exact in float
  * for N a power of two. */
@@ -56,7 +57,7 @@ void ss_gms_advance_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t 
          * part does (exact for v frozen over the step, stable at any step). In presliding some
          * element sticks and the level stays put, so presliding is exactly rate independent. */
         const float g = ss_stribeck_f32(cfg, dx_m / dt_s);
-        st->level_n = g + (st->level_n - g) * expf(-cfg->sigma0_n_per_m * fabsf(dx_m) / g);
+        st->level_n = g + (st->level_n - g) * ss_exp_neg_f32(cfg->sigma0_n_per_m * fabsf(dx_m) / g);
     }
     float sum = 0.0f;
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {

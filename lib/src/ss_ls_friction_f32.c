@@ -4,6 +4,7 @@
 #include <stddef.h>
 
 #include "ss_check.h"
+#include "ss_exp_f32.h"
 
 /* Beyond this many presliding lengths Fs/sigma0 the virgin curve equals Fs to float precision
  * (exp(-24) ~ 4e-11), so the frame can be re-based without changing any force. */
@@ -81,14 +82,16 @@ static void eval_branch(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *
     const float k0 = cfg->sigma0_n_per_m;
     if (st->depth == 0u) {
         const float u = st->x_m - st->x0_m;
-        const float a = k0 * fabsf(u) / fs;
-        st->fm_n = -ss_sign_f32(u) * fs * expm1f(-a);
-        st->kt_n_per_m = k0 * expf(-a);
+        float e;
+        const float em1 = ss_expm1_neg_f32(k0 * fabsf(u) / fs, &e);
+        st->fm_n = -ss_sign_f32(u) * fs * em1;
+        st->kt_n_per_m = k0 * e;
     } else {
         const ss_ls_reversal_f32_t *r = &st->rev[st->depth - 1u];
-        const float a = k0 * fabsf(st->x_m - r->x_m) / (2.0f * fs);
-        st->fm_n = r->f_n - (float)st->dir * 2.0f * fs * expm1f(-a);
-        st->kt_n_per_m = k0 * expf(-a);
+        float e;
+        const float em1 = ss_expm1_neg_f32(k0 * fabsf(st->x_m - r->x_m) / (2.0f * fs), &e);
+        st->fm_n = r->f_n - (float)st->dir * 2.0f * fs * em1;
+        st->kt_n_per_m = k0 * e;
     }
 }
 
@@ -133,8 +136,8 @@ void ss_ls_advance_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *s
     /* LuGre in the slip: the break-away level s relaxes to g(v_slip) over the distance g/sigma0,
      * exact for a slip velocity frozen over the step. */
     const float g = ss_stribeck_f32(cfg, slip / dt_s);
-    /* no gross slip (presliding, sticking): exp(0) = 1, the same arithmetic without expf */
-    const float decay = (slip == 0.0f) ? 1.0f : expf(-cfg->sigma0_n_per_m * fabsf(slip) / g);
+    /* no gross slip (presliding, sticking): exp(0) = 1, the same arithmetic without the exp */
+    const float decay = (slip == 0.0f) ? 1.0f : ss_exp_neg_f32(cfg->sigma0_n_per_m * fabsf(slip) / g);
     st->level_n = g + (st->level_n - g) * decay;
 }
 
@@ -155,12 +158,13 @@ float ss_ls_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_ls_state_
     const float share =
         (1.0f - st->kt_n_per_m / cfg->sigma0_n_per_m) * breakaway_gate(fabsf(st->fm_n) / cfg->fs_n);
     const float vp = v_m_per_s * share;
-    const float g = ss_stribeck_f32(cfg, vp);
+    float slope = 0.0f;
+    const float g =
+        (dfdv_ns_per_m != NULL) ? ss_stribeck_with_slope_f32(cfg, vp, &slope) : ss_stribeck_f32(cfg, vp);
     const float zdot = vp * (1.0f - st->level_n / g); /* LuGre's dz/dt once sliding, sigma0 z = s */
     const float asym = ss_asymmetry_factor_f32(cfg, st->fm_n);
     if (dfdv_ns_per_m != NULL) {
-        const float dzdvp =
-            (1.0f - st->level_n / g) + vp * st->level_n * ss_stribeck_slope_f32(cfg, vp) / (g * g);
+        const float dzdvp = (1.0f - st->level_n / g) + vp * st->level_n * slope / (g * g);
         *dfdv_ns_per_m = asym * cfg->sigma1_ns_per_m * share * dzdvp + cfg->sigma2_ns_per_m;
     }
     return asym * ((st->level_n / cfg->fs_n) * st->fm_n + cfg->sigma1_ns_per_m * zdot) +

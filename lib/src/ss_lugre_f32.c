@@ -4,6 +4,7 @@
 #include <stddef.h>
 
 #include "ss_check.h"
+#include "ss_exp_f32.h"
 
 ss_status_t ss_lugre_init_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st)
 {
@@ -31,7 +32,7 @@ void ss_lugre_advance_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f3
     const float v = dx_m / dt_s;
     const float g = ss_stribeck_f32(cfg, v);
     const float z_ss = ss_sign_f32(v) * g / cfg->sigma0_n_per_m;
-    st->z_m = z_ss + (st->z_m - z_ss) * expf(-cfg->sigma0_n_per_m * fabsf(dx_m) / g);
+    st->z_m = z_ss + (st->z_m - z_ss) * ss_exp_neg_f32(cfg->sigma0_n_per_m * fabsf(dx_m) / g);
 }
 
 float ss_lugre_step_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, float dx_m, float dt_s)
@@ -50,13 +51,15 @@ float ss_lugre_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_lugre_
                             float v_m_per_s, float *dfdv_ns_per_m)
 {
     const float v = v_m_per_s;
-    const float g = ss_stribeck_f32(cfg, v);
+    float slope = 0.0f;
+    const float g =
+        (dfdv_ns_per_m != NULL) ? ss_stribeck_with_slope_f32(cfg, v, &slope) : ss_stribeck_f32(cfg, v);
     const float k = cfg->sigma0_n_per_m * st->z_m / g; /* sigma0 z / g */
     const float zdot = v - fabsf(v) * k;
     const float asym = ss_asymmetry_factor_f32(cfg, st->z_m);
     if (dfdv_ns_per_m != NULL) {
         /* d(dz/dt)/dv = 1 - sgn(v) sigma0 z / g + |v| sigma0 z g' / g^2 */
-        const float dzdv = 1.0f - ss_sign_f32(v) * k + fabsf(v) * k * ss_stribeck_slope_f32(cfg, v) / g;
+        const float dzdv = 1.0f - ss_sign_f32(v) * k + fabsf(v) * k * slope / g;
         *dfdv_ns_per_m = asym * cfg->sigma1_ns_per_m * dzdv + cfg->sigma2_ns_per_m;
     }
     return asym * (cfg->sigma0_n_per_m * st->z_m + cfg->sigma1_ns_per_m * zdot) + cfg->sigma2_ns_per_m * v;
