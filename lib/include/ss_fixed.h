@@ -9,8 +9,18 @@
 #define SS_Q16_ONE (1 << 16)          /* 1.0 in Q16.16 */
 #define SS_Q30_ONE ((int32_t)1 << 30) /* 1.0 in Q1.30 */
 
-/* Clamp a 64-bit value into int32 (saturation, never wrap). */
-int32_t ss_sat32(int64_t v);
+/* Clamp a 64-bit value into int32 (saturation, never wrap). Inline: the q step calls it a dozen
+ * times, and a call costs more than the two compares. */
+static inline int32_t ss_sat32(int64_t v)
+{
+    if (v > INT32_MAX) {
+        return INT32_MAX;
+    }
+    if (v < INT32_MIN) {
+        return INT32_MIN;
+    }
+    return (int32_t)v;
+}
 
 /* exp(-x) for x >= 0 given in Q16.16 (x < 32768), as Q1.30 in [0, 2^30]. exp(0) is exactly
  * 2^30; results are non-increasing in x; the absolute error is below 2^-26 (tests/c/test_fixed.c

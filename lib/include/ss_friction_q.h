@@ -56,4 +56,8 @@ int64_t ss_asymmetric_q(const ss_friction_config_q_t *cfg, int64_t force_q24, in
 /* Slope dg/dv, N s/m in Q16.16 (saturated). */
 int32_t ss_stribeck_slope_q(const ss_friction_config_q_t *cfg, int32_t v_q28);
 
+/* ss_stribeck_q, and its slope as ss_stribeck_slope_q into *slope_q16, from one ratio and one
+ * exponential (the same bits as the two calls). */
+int32_t ss_stribeck_with_slope_q(const ss_friction_config_q_t *cfg, int32_t v_q28, int32_t *slope_q16);
+
 #endif /* SS_FRICTION_Q_H */

@@ -23,17 +23,6 @@ static int64_t div_small(int64_t x, int n)
     return (x < 0) ? -q : q;
 }
 
-int32_t ss_sat32(int64_t v)
-{
-    if (v > INT32_MAX) {
-        return INT32_MAX;
-    }
-    if (v < INT32_MIN) {
-        return INT32_MIN;
-    }
-    return (int32_t)v;
-}
-
 /* exp(-x) = 2^-(x log2 e) = 2^-k * 2^-f with k whole and f in [0, 1); 2^-f = 2^-1/2 * e^(-u ln2)
  * with u = f - 1/2 in [-1/2, 1/2), |u ln2| <= 0.347: a Taylor polynomial of degree 7 there has a
  * remainder below 0.347^8 / 8! = 5.6e-9 (2^-27.4). All in Q30 with 64-bit products. */

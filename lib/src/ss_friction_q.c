@@ -95,13 +95,23 @@ int32_t ss_stribeck_q(const ss_friction_config_q_t *cfg, int32_t v_q28)
 
 int32_t ss_stribeck_slope_q(const ss_friction_config_q_t *cfg, int32_t v_q28)
 {
+    int32_t slope;
+    (void)ss_stribeck_with_slope_q(cfg, v_q28, &slope);
+    return slope;
+}
+
+int32_t ss_stribeck_with_slope_q(const ss_friction_config_q_t *cfg, int32_t v_q28, int32_t *slope_q16)
+{
     if (v_q28 == 0) {
-        return 0;
+        *slope_q16 = 0;
+        return cfg->fs_q24;
     }
     const int64_t r = stribeck_ratio_q16(cfg, v_q28);
-    const int64_t e = ss_exp_neg_q32_q30((uint64_t)(r * r));
-    /* (Fs - Fc) r e in N at 2^-24, then 2 x that / vs: N/(m/s) at 2^-16 is x 2^20 / vs_q28 */
-    const int64_t fre = ss_shr_round(ss_shr_round((int64_t)(cfg->fs_q24 - cfg->fc_q24) * e, 30) * r, 16);
+    const int64_t e = ss_exp_neg_q32_q30((uint64_t)(r * r));                           /* r^2 in Q32, exact */
+    const int64_t excess = ss_shr_round((int64_t)(cfg->fs_q24 - cfg->fc_q24) * e, 30); /* N at 2^-24 */
+    /* slope: (Fs - Fc) r e, then 2 x that / vs: N/(m/s) at 2^-16 is x 2^20 / vs_q28 */
+    const int64_t fre = ss_shr_round(excess * r, 16);
     const int64_t slope = ss_div_round(fre * 2 * ((int64_t)1 << 20), cfg->vs_q28);
-    return ss_sat32((v_q28 > 0) ? -slope : slope);
+    *slope_q16 = ss_sat32((v_q28 > 0) ? -slope : slope);
+    return (int32_t)(cfg->fc_q24 + excess);
 }

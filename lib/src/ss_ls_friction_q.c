@@ -167,13 +167,14 @@ int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_
     const int64_t share =
         ss_shr_round((SS_Q30_ONE - (int64_t)st->kt_q30) * breakaway_gate_q30(cfg, st->fm_q24), 30);
     const int32_t vp = (int32_t)ss_shr_round((int64_t)v_q28 * share, 30);
-    const int64_t g = ss_stribeck_q(cfg, vp);
+    int32_t slope = 0;
+    const int64_t g = (dfdv_q16 != NULL) ? ss_stribeck_with_slope_q(cfg, vp, &slope) : ss_stribeck_q(cfg, vp);
     const int64_t ratio = ss_div_round((int64_t)st->level_q24 * SS_Q30_ONE, g); /* s / g, Q30 */
     const int64_t one_m = SS_Q30_ONE - ratio;
     const int64_t zdot = ss_shr_round(vp * one_m, 30); /* m/s at 2^-28 */
     if (dfdv_q16 != NULL) {
         /* d(dz/dt)/dvp = (1 - s/g) + vp s g' / g^2; vp g' / g is a pure number at 2^-20 */
-        const int64_t vg = ss_div_round((int64_t)vp * ss_stribeck_slope_q(cfg, vp), g);
+        const int64_t vg = ss_div_round((int64_t)vp * slope, g);
         const int64_t dzdvp = one_m + ss_shr_round(ratio * vg, 20);
         const int64_t s1 = ss_shr_round((int64_t)cfg->sigma1_q16 * share, 30);
         *dfdv_q16 =

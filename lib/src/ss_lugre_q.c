@@ -71,12 +71,14 @@ int32_t ss_lugre_force_at_q(const ss_friction_config_q_t *cfg, const ss_lugre_st
                             int32_t *dfdv_q16)
 {
     const int64_t v = v_q28;
-    const int64_t g = ss_stribeck_q(cfg, v_q28);
+    int32_t slope = 0;
+    const int64_t g =
+        (dfdv_q16 != NULL) ? ss_stribeck_with_slope_q(cfg, v_q28, &slope) : ss_stribeck_q(cfg, v_q28);
     const int64_t k = bristle_ratio_q30(cfg, st, g);
     const int64_t zdot = v - ss_shr_round(ss_abs64(v) * k, 30);
     if (dfdv_q16 != NULL) {
         /* d(dz/dt)/dv = 1 - sgn(v) sigma0 z / g + |v| (sigma0 z / g) g' / g; |v| g'/g at 2^-20 */
-        const int64_t vg = ss_div_round(ss_abs64(v) * ss_stribeck_slope_q(cfg, v_q28), g);
+        const int64_t vg = ss_div_round(ss_abs64(v) * slope, g);
         const int64_t dzdv = SS_Q30_ONE - ss_sign32(v) * k + ss_shr_round(k * vg, 20);
         *dfdv_q16 =
             ss_sat32(ss_asymmetric_q(cfg, ss_shr_round((int64_t)cfg->sigma1_q16 * dzdv, 30), st->z_q40) +
