@@ -56,15 +56,24 @@ static void run_row(void *ctx, const ss_node_core_t *c)
     send_state(ctx);
 }
 
-static void run_end(void *ctx, uint8_t req, uint8_t ref_seq, uint32_t steps_done)
+/* The CAN reply has room for the steps done only; a paced run's deadline misses go over the
+ * serial link (docs/protocol.md). */
+static void run_end(void *ctx, uint8_t req, uint8_t ref_seq, uint32_t steps_done, uint32_t misses)
 {
+    (void)misses;
     reply(ctx, (req == SS_MSG_RUN) ? SS_CAN_CMD_RUN : SS_CAN_CMD_STOP, ref_seq, SS_PERR_NONE, 0,
           (float)steps_done);
 }
 
+static uint64_t run_now(void *ctx)
+{
+    const ss_node_can_t *n = ctx;
+    return n->can->time_us(n->can->ctx);
+}
+
 static ss_node_run_sink_t sink_of(ss_node_can_t *n)
 {
-    const ss_node_run_sink_t s = {n, run_row, run_end};
+    const ss_node_run_sink_t s = {n, run_row, run_end, run_now};
     return s;
 }
 

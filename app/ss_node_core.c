@@ -346,7 +346,7 @@ ss_node_row_t ss_node_core_row(const ss_node_core_t *c)
 static void end_run(ss_node_core_t *c, uint8_t req, uint8_t ref_seq, const ss_node_run_sink_t *sink)
 {
     c->running = 0;
-    sink->end(sink->ctx, req, ref_seq, c->run_done);
+    sink->end(sink->ctx, req, ref_seq, c->run_done, c->run_misses);
 }
 
 ss_proto_error_t ss_node_core_run(ss_node_core_t *c, uint8_t seq, uint32_t steps, uint32_t decimation,
@@ -356,8 +356,8 @@ ss_proto_error_t ss_node_core_run(ss_node_core_t *c, uint8_t seq, uint32_t steps
     if (!c->wave_loaded) {
         return refuse(why, SS_PERR_NO_WAVEFORM, "RUN needs LOAD_WAVEFORM first", "");
     }
-    if (decimation == 0u || paced > 1u) {
-        return refuse(why, SS_PERR_OUT_OF_RANGE, "decimation >= 1, paced 0 or 1", "");
+    if (decimation == 0u) {
+        return refuse(why, SS_PERR_OUT_OF_RANGE, "decimation >= 1", "");
     }
     c->running = 1;
     c->run_seq = seq;
@@ -365,8 +365,9 @@ ss_proto_error_t ss_node_core_run(ss_node_core_t *c, uint8_t seq, uint32_t steps
     c->run_decimation = decimation;
     c->paced = paced;
     c->run_done = 0;
+    c->run_misses = 0;
     c->run_t0_us = now_us;
-    c->run_dt_fs = ss_node_model_dt_fs(&c->cfg);
+    c->run_dt_fs = ss_node_model_dt_fs(&c->cfg) * (paced > 1u ? paced : 1u); /* <= 1e12 fs x 255 */
     c->run_next_fs = c->run_dt_fs;
     if (c->run_left == 0u) {
         end_run(c, SS_MSG_RUN, c->run_seq, sink);
@@ -376,16 +377,21 @@ ss_proto_error_t ss_node_core_run(ss_node_core_t *c, uint8_t seq, uint32_t steps
 
 #define FS_PER_US 1000000000u
 
+/* Time since the run's start in integer femtoseconds (a float deadline lost microseconds after
+ * 2^24 us, about 16 s). 2^64 fs is 5.1 hours: later than that, everything is due. */
+static uint64_t elapsed_fs(const ss_node_core_t *c, uint64_t now_us)
+{
+    const uint64_t elapsed_us = now_us - c->run_t0_us;
+    return (elapsed_us > UINT64_MAX / FS_PER_US) ? UINT64_MAX : elapsed_us * FS_PER_US;
+}
+
 void ss_node_core_run_poll(ss_node_core_t *c, uint64_t now_us, const ss_node_run_sink_t *sink)
 {
     if (!c->running) {
         return;
     }
-    /* Paced: step k is due when k dt <= the time since the start, all in integer femtoseconds (a
-     * float deadline lost microseconds after 2^24 us, about 16 s). 2^64 fs is 5.1 hours: later
-     * than that, everything is due. */
-    const uint64_t elapsed_us = now_us - c->run_t0_us;
-    const uint64_t due_fs = (elapsed_us > UINT64_MAX / FS_PER_US) ? UINT64_MAX : elapsed_us * FS_PER_US;
+    /* Paced: step k is due when k slots <= the time since the start. */
+    const uint64_t due_fs = elapsed_fs(c, now_us);
     uint32_t todo = (c->run_left < SS_NODE_MAX_STEPS_PER_POLL) ? c->run_left : SS_NODE_MAX_STEPS_PER_POLL;
     for (; todo > 0u && (!c->paced || c->run_next_fs <= due_fs); --todo) {
         ss_node_model_wave_advance(&c->wst);
@@ -394,6 +400,10 @@ void ss_node_core_run_poll(ss_node_core_t *c, uint64_t now_us, const ss_node_run
         c->run_left--;
         c->run_next_fs =
             (c->run_next_fs > UINT64_MAX - c->run_dt_fs) ? UINT64_MAX : c->run_next_fs + c->run_dt_fs;
+        /* the step's deadline is the next one's due time: ended later, it missed it */
+        if (c->paced && elapsed_fs(c, sink->now_us(sink->ctx)) > c->run_next_fs) {
+            c->run_misses++;
+        }
         if (c->run_done % c->run_decimation == 0u) {
             sink->row(sink->ctx, c);
         }

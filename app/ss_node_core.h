@@ -59,17 +59,20 @@ typedef struct {
     /* free run */
     uint8_t running, paced, run_seq;
     uint32_t run_left, run_done, run_decimation;
+    uint32_t run_misses; /* paced steps that ended after their deadline */
     uint64_t run_t0_us;
-    uint64_t run_dt_fs;   /* the model's step, fs (paced runs) */
+    uint64_t run_dt_fs;   /* a step's slot of real time, fs (paced runs): paced x the model's step */
     uint64_t run_next_fs; /* when the next step is due, fs after run_t0_us */
 } ss_node_core_t;
 
 /* Where a run's output goes: the front end's. row: the state after every decimation-th step;
- * end: the run is over (req SS_MSG_RUN: all steps done; SS_MSG_STOP: stopped), answer ref_seq. */
+ * end: the run is over (req SS_MSG_RUN: all steps done; SS_MSG_STOP: stopped), answer ref_seq,
+ * with the paced run's deadline misses; now_us: the port's clock, read after every paced step. */
 typedef struct {
     void *ctx;
     void (*row)(void *ctx, const ss_node_core_t *core);
-    void (*end)(void *ctx, uint8_t req, uint8_t ref_seq, uint32_t steps_done);
+    void (*end)(void *ctx, uint8_t req, uint8_t ref_seq, uint32_t steps_done, uint32_t misses);
+    uint64_t (*now_us)(void *ctx);
 } ss_node_run_sink_t;
 
 /* Table I parameters (the library's), LS friction, the paper's drive pending, at rest at 0 V. */
@@ -108,8 +111,11 @@ ss_proto_error_t ss_node_core_load_waveform(ss_node_core_t *core, const ss_wavef
 ss_proto_error_t ss_node_core_drive(ss_node_core_t *core, float drive_v);
 ss_node_row_t ss_node_core_row(const ss_node_core_t *core);
 
-/* A free run of steps steps of the loaded waveform, a row every decimation steps, paced (1) by
- * the port's clock or not (0); now_us is the port's clock. A run of 0 steps ends at once. */
+/* A free run of steps steps of the loaded waveform, a row every decimation steps; now_us is the
+ * port's clock. paced 0: as fast as it goes. paced p >= 1: step k (from 1) is due p k dt after the
+ * start (p = 1 real time, p > 1 slowed p times), and its deadline is the next step's due time:
+ * a step that ends later counts as a deadline miss (ended after the port's clock, whole
+ * microseconds, passed the deadline). A run of 0 steps ends at once. */
 ss_proto_error_t ss_node_core_run(ss_node_core_t *core, uint8_t seq, uint32_t steps, uint32_t decimation,
                                   uint8_t paced, uint64_t now_us, const ss_node_run_sink_t *sink,
                                   ss_node_refusal_t *why);

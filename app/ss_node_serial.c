@@ -70,14 +70,16 @@ static void flush_rows(ss_node_serial_t *n)
     if (n->n_rows == 0u) {
         return;
     }
-    uint8_t p[7 + SS_PROTO_MAX_ROWS * SS_PROTO_ROW_BYTES];
+    uint8_t p[7 + SS_PROTO_MAX_ROWS * SS_PROTO_ROW_BYTES + 4];
     p[0] = n->core.run_seq;
     ss_put_u32(&p[1], n->first_row_step);
     ss_put_u16(&p[5], (uint16_t)n->n_rows);
-    for (size_t i = 0; i < (size_t)n->n_rows * SS_PROTO_ROW_BYTES; ++i) {
+    const size_t bytes = (size_t)n->n_rows * SS_PROTO_ROW_BYTES;
+    for (size_t i = 0; i < bytes; ++i) {
         p[7 + i] = n->rows[i];
     }
-    send_frame(n, SS_MSG_TELEMETRY, p, 7u + (size_t)n->n_rows * SS_PROTO_ROW_BYTES);
+    ss_put_u32(&p[7 + bytes], n->core.run_misses); /* the run's deadline misses so far */
+    send_frame(n, SS_MSG_TELEMETRY, p, 7u + bytes + 4u);
     n->n_rows = 0;
 }
 
@@ -93,19 +95,26 @@ static void run_row(void *ctx, const ss_node_core_t *c)
     }
 }
 
-static void run_end(void *ctx, uint8_t req, uint8_t ref_seq, uint32_t steps_done)
+static void run_end(void *ctx, uint8_t req, uint8_t ref_seq, uint32_t steps_done, uint32_t misses)
 {
     ss_node_serial_t *n = ctx;
     flush_rows(n);
-    uint8_t p[5];
+    uint8_t p[9];
     p[0] = ref_seq;
     ss_put_u32(&p[1], steps_done);
+    ss_put_u32(&p[5], misses);
     send_frame(n, (uint8_t)(req | SS_MSG_REPLY), p, sizeof p);
+}
+
+static uint64_t run_now(void *ctx)
+{
+    const ss_node_serial_t *n = ctx;
+    return n->link->time_us(n->link->ctx);
 }
 
 static ss_node_run_sink_t sink_of(ss_node_serial_t *n)
 {
-    const ss_node_run_sink_t s = {n, run_row, run_end};
+    const ss_node_run_sink_t s = {n, run_row, run_end, run_now};
     return s;
 }
 
@@ -342,8 +351,9 @@ static void handle_stop(ss_node_serial_t *n)
 {
     const ss_node_run_sink_t sink = sink_of(n);
     if (!ss_node_core_stop(&n->core, n->pkt.seq, &sink)) {
-        uint8_t b[4];
+        uint8_t b[8];
         ss_put_u32(b, 0u);
+        ss_put_u32(&b[4], 0u);
         send_reply(n, SS_MSG_STOP, b, sizeof b);
     }
 }

@@ -48,12 +48,19 @@ static void on_row(void *ctx, const ss_node_core_t *core)
     check_model(core);
 }
 
-static void on_end(void *ctx, uint8_t req, uint8_t ref_seq, uint32_t steps_done)
+static void on_end(void *ctx, uint8_t req, uint8_t ref_seq, uint32_t steps_done, uint32_t misses)
 {
     (void)ctx;
     (void)req;
     (void)ref_seq;
     (void)steps_done;
+    (void)misses;
+}
+
+static uint64_t on_now(void *ctx)
+{
+    (void)ctx;
+    return 0u; /* runs here are unpaced: no deadlines */
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -61,7 +68,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     static ss_node_core_t core;
     ops_t o = {data, size, 0};
     ss_node_refusal_t why;
-    const ss_node_run_sink_t sink = {NULL, on_row, on_end};
+    const ss_node_run_sink_t sink = {NULL, on_row, on_end, on_now};
     uint8_t seq = 1;
     uint32_t steps_left = 20000u; /* per input: keeps an execution under a few ms */
 

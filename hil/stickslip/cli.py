@@ -352,7 +352,13 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
         s,
         f"{a.mode} over {url}: {run.steps} steps in {run.wall_s:.3f} s "
         f"({run.steps_per_s:.0f} steps/s), mean step {s['mean_step_per_cycle_m'] * 1e6:.4f} um "
-        f"per cycle" + (f"; dataset in {a.out}" if a.out else ""),
+        f"per cycle"
+        + (
+            f", {run.telemetry.deadline_misses} deadline misses"
+            if a.paced and run.telemetry.deadline_misses is not None
+            else ""
+        )
+        + (f"; dataset in {a.out}" if a.out else ""),
     )
     return 0
 

@@ -14,7 +14,8 @@ typedef struct {
     uint8_t out[1 << 16];
     size_t out_n;
     uint64_t now_us;
-    int gone; /* next read reports the peer gone */
+    uint64_t tick_us; /* what each reading of the clock costs (a node that is slow to step) */
+    int gone;         /* next read reports the peer gone */
 } fake_t;
 
 static int32_t fake_read(void *ctx, uint8_t *buf, size_t max)
@@ -44,7 +45,10 @@ static int32_t fake_write(void *ctx, const uint8_t *buf, size_t n)
 
 static uint64_t fake_time(void *ctx)
 {
-    return ((fake_t *)ctx)->now_us;
+    fake_t *f = ctx;
+    const uint64_t t = f->now_us;
+    f->now_us += f->tick_us;
+    return t;
 }
 
 #endif /* SS_FAKE_LINK_H */

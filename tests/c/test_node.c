@@ -403,6 +403,80 @@ static void test_paced_deadline_after_16_s(void **unused)
     assert_int_equal(node.core.run_done, 16777219u);
 }
 
+/* The last frame of type among what the node wrote since the last request (NULL: none). */
+static ss_proto_packet_t found;
+static const ss_proto_packet_t *last_of_type(uint8_t type)
+{
+    ss_proto_rx_t rx;
+    ss_proto_rx_init(&rx);
+    const ss_proto_packet_t *last = NULL;
+    for (size_t i = 0; i < fk.out_n; ++i) {
+        int c = 0;
+        assert_int_equal(ss_proto_rx_push(&rx, fk.out[i], &reply, &c), SS_PERR_NONE);
+        if (c && reply.type == type) {
+            found = reply;
+            last = &found;
+        }
+    }
+    return last;
+}
+
+/* A paced run of steps steps at slot paced x dt, the test's clock moving 1 us between polls (and
+ * tick_us at each reading of it): the RUN reply's steps done and deadline misses, and the last
+ * telemetry frame's count so far. */
+static void paced_run(uint32_t steps, uint8_t paced, uint64_t tick_us, uint32_t *misses, uint32_t *tel_misses)
+{
+    uint8_t run[7];
+    ss_put_u32(run, steps);
+    ss_put_u16(&run[4], 50);
+    run[6] = paced;
+    fk.tick_us = 0;
+    request(SS_MSG_RUN, run, 7); /* an unpaced run ends in this poll */
+    fk.tick_us = tick_us;
+    while (node.core.running) {
+        fk.now_us += 1;
+        ss_node_serial_poll(&node);
+    }
+    fk.tick_us = 0;
+    const ss_proto_packet_t *r = last_of_type(SS_MSG_RUN | SS_MSG_REPLY);
+    assert_non_null(r);
+    assert_int_equal(r->len, 9); /* ref_seq, u32 steps done, u32 misses */
+    assert_int_equal(ss_get_u32(&r->payload[1]), steps);
+    *misses = ss_get_u32(&r->payload[5]);
+    const ss_proto_packet_t *t = last_of_type(SS_MSG_TELEMETRY);
+    assert_non_null(t);
+    const uint16_t rows = ss_get_u16(&t->payload[5]);
+    assert_int_equal(t->len, 7u + rows * SS_PROTO_ROW_BYTES + 4u); /* rows, then the misses so far */
+    *tel_misses = ss_get_u32(&t->payload[7u + rows * SS_PROTO_ROW_BYTES]);
+}
+
+/* Deadline misses: a step that ends after the next step's due time. A node that keeps up misses
+ * none; one that needs more than its slot misses nearly all; slowed down (a longer slot), the same
+ * node keeps up again. Unpaced runs count none. */
+static void test_paced_deadline_misses(void **unused)
+{
+    (void)unused;
+    load_paper_waveform(2);
+    fk.now_us = 100;
+    uint32_t misses = 0;
+    uint32_t tel = 0;
+    /* the clock stands still while the node works: every step ends within its slot */
+    paced_run(200, 1, 0, &misses, &tel);
+    assert_int_equal(misses, 0);
+    assert_int_equal(tel, 0);
+    /* each reading of the clock takes 1 us: a step costs about 2 us against a 1 us slot */
+    paced_run(200, 1, 1, &misses, &tel);
+    print_message("2 us a step in 1 us slots: %u of 200 missed\n", misses);
+    assert_true(misses >= 190u && misses <= 200u);
+    assert_true(tel <= misses && tel >= 150u);
+    /* the same node slowed 3 times: 3 us slots */
+    paced_run(200, 3, 1, &misses, &tel);
+    assert_int_equal(misses, 0);
+    /* unpaced: no deadlines */
+    paced_run(200, 0, 1, &misses, &tel);
+    assert_int_equal(misses, 0);
+}
+
 static void test_garbage_unknown_and_disconnect(void **unused)
 {
     (void)unused;
@@ -651,6 +725,7 @@ int main(void)
         cmocka_unit_test_setup(test_drive_block_lockstep_and_duplicate, setup),
         cmocka_unit_test(test_no_accepted_drive_makes_the_state_non_finite),
         cmocka_unit_test_setup(test_free_run_paced_busy_stop, setup),
+        cmocka_unit_test_setup(test_paced_deadline_misses, setup),
         cmocka_unit_test_setup(test_garbage_unknown_and_disconnect, setup),
         cmocka_unit_test_setup(test_set_param_then_run_does_not_jump, setup),
         cmocka_unit_test_setup(test_paced_deadline_after_16_s, setup),

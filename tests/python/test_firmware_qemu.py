@@ -57,6 +57,25 @@ def test_firmware_lockstep_matches_host(target):
         assert c.get("sigma0_n_per_m") == pytest.approx(1e7)
 
 
+def test_firmware_paced_run_counts_deadline_misses():
+    # The M4F image at 125 MHz (QEMU -icount shift=3: one instruction per 8 ns of its clock) runs
+    # the float32 LS node's step in about 600 instructions with the waveform, the clock and the
+    # link: 4.8 us, so a real-time run of 1 us steps misses every deadline, and one slowed 8 times
+    # (1000 instructions a slot) none. The counts come from the node (RUN reply, telemetry).
+    need_firmware("qemu-m4f")
+    w = Sawtooth(cycles=1)  # 2000 steps of the paper's drive
+    with QemuNode("qemu-m4f", icount_shift=3) as q, NodeClient(q.url, timeout_s=20) as c:
+        real_time = play(c, w, "free", 100, 1)
+        assert real_time.steps == 2000
+        assert real_time.telemetry.deadline_misses == 2000
+        slowed = play(c, w, "free", 100, 8)
+        assert slowed.telemetry.deadline_misses == 0
+        # an unpaced run has no deadlines
+        assert play(c, w, "free", 100, 0).telemetry.deadline_misses == 0
+        # the trajectory does not depend on the pacing
+        assert np.array_equal(real_time.telemetry.x_slider_m, slowed.telemetry.x_slider_m)
+
+
 def rows_of(c: NodeClient, drive: np.ndarray) -> list[tuple]:
     """The raw rows (float32 fields as sent) of a lock-step run from rest."""
     c.reset(float(drive[0]))

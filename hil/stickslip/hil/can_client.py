@@ -265,7 +265,7 @@ class CanNodeClient:
         self,
         steps: int,
         decimation: int = 1,
-        paced: bool = False,
+        paced: int = 0,
         timeout_s: float | None = None,
         progress: StepProgress = None,
     ) -> Telemetry:
@@ -274,7 +274,7 @@ class CanNodeClient:
         rows: list[tuple] = []
         # model time when paced, plus the reading: python-can's slcan parses ~1 frame per 0.5 ms
         frames = 3 * (steps // decimation)
-        paced_s = steps * self.info.dt_s * 1.5 if paced else 0.0
+        paced_s = steps * self.info.dt_s * 1.5 * int(paced)
         budget = timeout_s or max(self.timeout_s, 5.0 + paced_s + frames * 1e-3)
         r = self.request(
             "RUN",

@@ -13,6 +13,7 @@ import struct
 import subprocess
 import time
 from collections import deque
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -40,11 +41,12 @@ from .node import (
 )
 
 
-def _rows(what: str, payload: bytes, offset: int) -> tuple[int, list[tuple]]:
-    """A block of state rows (u32 first step, u16 count, the rows), checked for its length."""
+def _rows(what: str, payload: bytes, offset: int, trailer: int = 0) -> tuple[int, list[tuple]]:
+    """A block of state rows (u32 first step, u16 count, the rows), checked for its length; a
+    trailer of that many bytes may follow the rows."""
     checked(what, payload, offset + 6)
     first, n = struct.unpack_from("<IH", payload, offset)
-    if len(payload) != offset + 6 + n * P.ROW.size:
+    if len(payload) - (offset + 6 + n * P.ROW.size) not in {0, trailer}:
         raise BadReplyError(what, f"{len(payload)} bytes for {n} rows")
     rows = [P.ROW.unpack_from(payload, offset + 6 + i * P.ROW.size) for i in range(n)]
     return first, rows
@@ -82,6 +84,7 @@ class NodeClient:
         self._node_seq: int | None = None
         self._inbox: deque[P.Packet] = deque()
         self.telemetry: list[tuple] = []
+        self.run_misses: int | None = None  # the free run's deadline misses, from its telemetry
         self._run_progress: StepProgress = None  # told the last step of each telemetry frame
         if handshake:
             self.info = self.hello()
@@ -173,8 +176,11 @@ class NodeClient:
                     "the request or its reply was lost"
                 ) from None
             if pkt.type == P.TELEMETRY:
-                rows = _rows("TELEMETRY", pkt.payload, 1)[1]
+                rows = _rows("TELEMETRY", pkt.payload, 1, trailer=4)[1]
                 self.telemetry.extend(rows)
+                end = 7 + len(rows) * P.ROW.size
+                if len(pkt.payload) == end + 4:  # the run's deadline misses so far
+                    self.run_misses = struct.unpack_from("<I", pkt.payload, end)[0]
                 deadline = time.monotonic() + waited
                 if rows:
                     last_step = int(rows[-1][0])
@@ -295,15 +301,20 @@ class NodeClient:
         self,
         steps: int,
         decimation: int = 1,
-        paced: bool = False,
+        paced: int = 0,
         timeout_s: float | None = None,
         progress: StepProgress = None,
     ) -> Telemetry:
         """Free run of the loaded waveform; telemetry until the node reports the run done;
-        progress (if given) is told the node's step as telemetry arrives."""
+        progress (if given) is told the node's step as telemetry arrives. paced: 0 as fast as the
+        node goes, 1 real time by the node's clock, p > 1 slowed p times (docs/protocol.md); the
+        result carries the node's count of steps that ended after their deadline."""
+        if not 0 <= int(paced) <= 255:
+            raise ValueError(f"paced must be 0 to 255 (a slot of paced x dt), got {paced}")
         self.telemetry = []
+        self.run_misses = None
         budget = timeout_s or max(
-            self.timeout_s, 5.0 + steps * self.info.dt_s * (1.5 if paced else 0.2)
+            self.timeout_s, 5.0 + steps * self.info.dt_s * (1.5 * int(paced) if paced else 0.2)
         )
         self._run_progress = progress
         try:
@@ -315,7 +326,8 @@ class NodeClient:
         (done,) = struct.unpack_from("<I", checked("RUN", b, 4))
         if done != steps:
             raise HilError(f"run ended after {done} of {steps} steps (stopped)")
-        return Telemetry.from_rows(self.telemetry)
+        misses = struct.unpack_from("<I", b, 4)[0] if len(b) >= 8 else self.run_misses
+        return replace(Telemetry.from_rows(self.telemetry), deadline_misses=misses)
 
     def stop(self) -> int:
         return struct.unpack_from("<I", checked("STOP", self.request(P.STOP), 4))[0]
@@ -426,9 +438,12 @@ def firmware_elf(preset: str, image: str = "stickslip_fw.elf") -> Path:
 
 
 class QemuNode(HostNode):
-    """The firmware node on an emulated MPS2 board (qemu-system-arm), its UART on TCP loopback."""
+    """The firmware node on an emulated MPS2 board (qemu-system-arm), its UART on TCP loopback.
+    icount_shift: None runs the CPU as fast as the host can, and its clock in host time; n runs
+    it at one instruction per 2^n ns of a virtual clock (QEMU's -icount shift=n: a 1 GHz part
+    at 0, 125 MHz at 3), so a paced run's timing and deadline misses are deterministic."""
 
-    def __init__(self, target: str = "qemu-m4f"):
+    def __init__(self, target: str = "qemu-m4f", icount_shift: int | None = None):
         if target not in QEMU_TARGETS:
             raise ValueError(f"target must be one of {sorted(QEMU_TARGETS)}, got {target!r}")
         board, preset, image = QEMU_TARGETS[target]
@@ -450,6 +465,10 @@ class QemuNode(HostNode):
             "-semihosting-config",
             "enable=on,target=native",
         ]
+        if icount_shift is not None:
+            if not 0 <= icount_shift <= 10:
+                raise ValueError(f"icount_shift must be 0 to 10, got {icount_shift}")
+            cmd += ["-icount", f"shift={icount_shift}"]
         self.proc = subprocess.Popen(
             cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
         )

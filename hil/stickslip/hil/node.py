@@ -130,6 +130,9 @@ class Telemetry:
     x_rod_m: np.ndarray
     x_slider_m: np.ndarray
     friction_n: np.ndarray
+    # a paced free run's steps that ended after their deadline (the next step's due time), as the
+    # serial node reports them; None where the link does not carry them (CAN, lock-step)
+    deadline_misses: int | None = None
 
     @classmethod
     def from_rows(cls, rows: list[tuple]) -> Telemetry:
@@ -215,7 +218,7 @@ class NodeSession(Protocol):
         self,
         steps: int,
         decimation: int = 1,
-        paced: bool = False,
+        paced: int = 0,
         timeout_s: float | None = None,
         progress: StepProgress = None,
     ) -> Telemetry: ...

@@ -102,7 +102,7 @@ def play(
     w: Sawtooth,
     mode: str = "lockstep",
     decimation: int = 1,
-    paced: bool = False,
+    paced: int = 0,
     progress: StepProgress = None,
 ) -> HilRun:
     """Play w through the node. lockstep: the drive is generated here (the sawtooth of the C
@@ -157,5 +157,7 @@ def summary(run: HilRun, client: NodeSession) -> dict:
         "wall_s": run.wall_s,
         "steps_per_s": run.steps_per_s,
         "mean_step_per_cycle_m": run.mean_step_m(),
+        # a paced free run's steps that ended after their deadline (None: not reported)
+        "deadline_misses": run.telemetry.deadline_misses,
         "link": asdict(client.stats),
     }
