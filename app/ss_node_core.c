@@ -394,8 +394,7 @@ void ss_node_core_run_poll(ss_node_core_t *c, uint64_t now_us, const ss_node_run
     const uint64_t due_fs = elapsed_fs(c, now_us);
     uint32_t todo = (c->run_left < SS_NODE_MAX_STEPS_PER_POLL) ? c->run_left : SS_NODE_MAX_STEPS_PER_POLL;
     for (; todo > 0u && (!c->paced || c->run_next_fs <= due_fs); --todo) {
-        ss_node_model_wave_advance(&c->wst);
-        ss_node_model_step(&c->cfg, &c->st, ss_node_model_wave_value(&c->wave, &c->wst));
+        ss_node_model_wave_step(&c->cfg, &c->st, &c->wave, &c->wst);
         c->run_done++;
         c->run_left--;
         c->run_next_fs =

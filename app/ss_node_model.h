@@ -62,6 +62,9 @@ ss_status_t ss_node_model_wave_convert(const ss_waveform_config_f32_t *w, ss_nod
 ss_status_t ss_node_model_wave_init(const ss_node_config_t *cfg, const ss_node_wave_t *w,
                                     ss_node_wave_state_t *ws);
 ss_node_drive_t ss_node_model_wave_value(const ss_node_wave_t *w, const ss_node_wave_state_t *ws);
-void ss_node_model_wave_advance(ss_node_wave_state_t *ws);
+/* Advance the player a step and step the model to its drive (f32: with the drive's corner when
+ * one falls inside the step, as the batch simulator's run does; q: to the step's end value). */
+void ss_node_model_wave_step(const ss_node_config_t *cfg, ss_node_state_t *st, const ss_node_wave_t *w,
+                             ss_node_wave_state_t *ws);
 
 #endif /* SS_NODE_MODEL_H */

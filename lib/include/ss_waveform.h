@@ -30,6 +30,8 @@ typedef struct {
     float tau0_s;   /* time into the current period at j = 0 */
     uint32_t index; /* period (sawtooth) or sample (sampled) index */
     uint32_t j;     /* steps since tau0 */
+    float peak_s;   /* time into a period of its inner corner (sawtooth: the peak; sampled: none, period_s) */
+    float corner_s; /* time into the period of the next corner not yet passed (peak_s or period_s) */
 } ss_waveform_state_f32_t;
 
 ss_waveform_config_f32_t ss_waveform_sawtooth_f32(float frequency_hz, float amplitude_v, float offset_v,
@@ -48,6 +50,20 @@ float ss_waveform_value_f32(const ss_waveform_config_f32_t *cfg, const ss_wavefo
 
 /* Advance the player by one step. */
 void ss_waveform_advance_f32(ss_waveform_state_f32_t *st);
+
+/* Steps closer than this share of a step to a corner take it as on the step's end: the drive's
+ * deviation from the chord is at most frac (1 - frac) of the step's slope change, and 0.1 % of a
+ * step also hides the float rounding of where the corner is (an edge on the grid stays on it). */
+#define SS_WAVEFORM_CORNER_MIN_FRAC 1e-3f
+
+/* Where the drive bends inside the next step (the step ss_waveform_advance_f32 would take): 1 with
+ * *frac_out in (0, 1), the corner's time as a share of the step, and *v_out the drive there; 0 when
+ * the drive is one straight segment over the step (or bends within SS_WAVEFORM_CORNER_MIN_FRAC of
+ * its ends). A sawtooth bends at its peak and at each period's start (and once more where the
+ * last period ends and the drive holds), a sampled drive at each sample; a step is taken to hold at
+ * most one corner (steps shorter than either edge and than the sample interval). */
+int ss_waveform_corner_f32(const ss_waveform_config_f32_t *cfg, const ss_waveform_state_f32_t *st,
+                           float *frac_out, float *v_out);
 
 /* The drive after each of the next n steps (advance, then value), into out[0..n-1]: what
  * ss_actuator_run_f32 feeds the actuator, for a lock-step peer or a controller to send. */

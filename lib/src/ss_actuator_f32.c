@@ -74,11 +74,10 @@ ss_status_t ss_actuator_config_check_f32(const ss_actuator_config_f32_t *cfg, co
 
 /* Exact flow of M e'' + c e' + k e = 0 over dt, as a 2x2 matrix on (e, e'). Under-, critically
  * and over-damped cases share one form with s(t) = sin(w t)/w, sinh(w t)/w or t. */
-static void rod_flow(const ss_actuator_config_f32_t *cfg, float phi[4])
+static void rod_flow(const ss_actuator_config_f32_t *cfg, float dt, float phi[4])
 {
     const float k = cfg->piezo_stiffness_n_per_m;
     const float m = cfg->rod_mass_kg;
-    const float dt = cfg->dt_s;
     const float wn2 = k / m;
     const float sigma = 0.5f * cfg->piezo_damping_kg_per_s / m;
     const float wd2 = wn2 - sigma * sigma;
@@ -208,12 +207,52 @@ ss_status_t ss_actuator_init_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
     st->v_slider_m_per_s = 0.0f;
     st->force_n = 0.0f;
     st->steps = 0u;
-    rod_flow(cfg, st->phi);
+    rod_flow(cfg, cfg->dt_s, st->phi);
     return SS_OK;
 }
 
-ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
-                                 float drive_v)
+/* The rod's exact flow over s under a piezo anchor ramping linearly from a0 to a1 (phi: the free
+ * flow over s). Its forced response is y(t) = a(t) - c b / k with b the ramp rate; the rest is free. */
+static void rod_drift(const ss_actuator_config_f32_t *cfg, const float phi[4], float s, float a0, float a1,
+                      float *x, float *v)
+{
+    const float b = (a1 - a0) / s;
+    const float lag = cfg->piezo_damping_kg_per_s * b / cfg->piezo_stiffness_n_per_m;
+    const float e0 = *x - (a0 - lag);
+    const float ed0 = *v - b;
+    const float e1 = phi[0] * e0 + phi[1] * ed0;
+    const float ed1 = phi[2] * e0 + phi[3] * ed0;
+    *x = (a1 - lag) + e1;
+    *v = b + ed1;
+}
+
+/* The drift of a step whose drive bends at corner_frac dt: the anchor's two straight pieces, each
+ * with the rod's exact flow over its own length (two flow matrices: cos, sin, exp), and the
+ * effects' drive advanced in the same two pieces. Returns the strain at the step's end. */
+static float drift_with_corner(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                               float drive_v, float corner_frac, float corner_v)
+{
+    const float dt = cfg->dt_s;
+    const float t1 = corner_frac * dt;
+    const float t2 = dt - t1;
+    const float x_b0 = st->fx.x_base_m;
+    const float a0 = st->x_p_m + x_b0;
+    const float x_pc = ss_effects_drive_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, corner_v, t1);
+    const float x_p1 = ss_effects_drive_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, t2);
+    const float ac = x_pc + (x_b0 + st->fx.v_base_m_per_s * t1);
+    const float a1 = x_p1 + (x_b0 + st->fx.v_base_m_per_s * dt);
+    float phi[4];
+    rod_flow(cfg, t1, phi);
+    rod_drift(cfg, phi, t1, a0, ac, &st->x_rod_m, &st->v_rod_m_per_s);
+    rod_flow(cfg, t2, phi);
+    rod_drift(cfg, phi, t2, ac, a1, &st->x_rod_m, &st->v_rod_m_per_s);
+    return x_p1;
+}
+
+/* One step; the drive is linear from its current value to drive_v, or (corner_frac > 0) linear to
+ * corner_v at corner_frac dt and then linear to drive_v. */
+static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float drive_v,
+                        float corner_frac, float corner_v)
 {
     if (cfg == NULL || st == NULL) {
         return SS_ERR_NULL;
@@ -229,24 +268,28 @@ ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
     /* kick: half a step of friction on both bodies */
     half_kick(cfg, st, inv_mr, inv_mc);
 
-    /* drift: exact flow of the rod under a piezo anchor (strain plus base) ramping linearly over
-     * the step. Its forced response is y(t) = a(t) - c b / k with b the ramp rate; the rest is free. */
-    const float x_p1 = ss_effects_drive_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, dt);
+    /* drift: the rod's exact flow under the piezo anchor (strain plus base), in two pieces when the
+     * drive bends inside the step (each with the flow over its own length) */
     const float x_b0 = st->fx.x_base_m;
-    const float x_b1 = x_b0 + st->fx.v_base_m_per_s * dt;
     const float a0 = st->x_p_m + x_b0;
-    const float a1 = x_p1 + x_b1;
-    const float b = (a1 - a0) / dt;
-    const float lag = cfg->piezo_damping_kg_per_s * b / cfg->piezo_stiffness_n_per_m;
-    const float e0 = st->x_rod_m - (a0 - lag);
-    const float ed0 = st->v_rod_m_per_s - b;
-    const float e1 = st->phi[0] * e0 + st->phi[1] * ed0;
-    const float ed1 = st->phi[2] * e0 + st->phi[3] * ed0;
-    const float x_rod1 = (a1 - lag) + e1;
+    const float x_rod0 = st->x_rod_m;
+    float x_p1;
+    if (corner_frac > 0.0f) {
+        x_p1 = drift_with_corner(cfg, st, drive_v, corner_frac, corner_v);
+    } else {
+        /* the drift's straight form, as rod_drift with the flow over dt from init */
+        x_p1 = ss_effects_drive_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, dt);
+        const float a1 = x_p1 + (x_b0 + st->fx.v_base_m_per_s * dt);
+        const float b = (a1 - a0) / dt;
+        const float lag = cfg->piezo_damping_kg_per_s * b / cfg->piezo_stiffness_n_per_m;
+        const float e0 = x_rod0 - (a0 - lag);
+        const float ed0 = st->v_rod_m_per_s - b;
+        st->x_rod_m = (a1 - lag) + (st->phi[0] * e0 + st->phi[1] * ed0);
+        st->v_rod_m_per_s = b + (st->phi[2] * e0 + st->phi[3] * ed0);
+    }
+    const float x_b1 = x_b0 + st->fx.v_base_m_per_s * dt;
     const float dx_slider = st->v_slider_m_per_s * dt;
-    const float dx_rel = (x_rod1 - st->x_rod_m) - dx_slider;
-    st->x_rod_m = x_rod1;
-    st->v_rod_m_per_s = b + ed1;
+    const float dx_rel = (st->x_rod_m - x_rod0) - dx_slider;
     st->fx.xp_rate_m_per_s = (x_p1 - st->x_p_m) / dt;
     st->fx.x_base_m = x_b1;
     position_add(&st->x_slider, dx_slider);
@@ -276,6 +319,40 @@ ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
     half_kick(cfg, st, inv_mr, inv_mc);
     st->steps++;
     return SS_OK;
+}
+
+ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                 float drive_v)
+{
+    return step(cfg, st, drive_v, 0.0f, 0.0f);
+}
+
+ss_status_t ss_actuator_step_corner_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                        float drive_v, float corner_frac, float corner_v)
+{
+    if (!(corner_frac > 0.0f && corner_frac < 1.0f) || !isfinite(corner_v)) {
+        return isfinite(corner_frac) && isfinite(corner_v) ? SS_ERR_RANGE : SS_ERR_NONFINITE;
+    }
+    return step(cfg, st, drive_v, corner_frac, corner_v);
+}
+
+/* ss_actuator_wave_step_f32's body, inlined into the run's loop */
+static inline ss_status_t wave_step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                    const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst)
+{
+    float frac = 0.0f;
+    float corner_v = 0.0f;
+    if (!ss_waveform_corner_f32(wave, wst, &frac, &corner_v)) {
+        frac = 0.0f;
+    }
+    ss_waveform_advance_f32(wst);
+    return step(cfg, st, ss_waveform_value_f32(wave, wst), frac, corner_v);
+}
+
+ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                      const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst)
+{
+    return wave_step(cfg, st, wave, wst);
 }
 
 void ss_actuator_place_slider_f32(ss_actuator_state_f32_t *st, float x_m)
@@ -359,8 +436,7 @@ ss_status_t ss_actuator_run_f32(const ss_actuator_config_f32_t *cfg, ss_actuator
     }
     ss_status_t status = SS_OK;
     for (uint32_t i = 1u; i <= n_steps && status == SS_OK; ++i) {
-        ss_waveform_advance_f32(wst);
-        status = ss_actuator_step_f32(cfg, st, ss_waveform_value_f32(wave, wst));
+        status = wave_step(cfg, st, wave, wst);
         if (status == SS_OK && trace != NULL && i % decimation == 0u) {
             ss_actuator_record_f32(cfg, st, trace, rows++);
         }

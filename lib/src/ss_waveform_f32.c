@@ -89,6 +89,11 @@ ss_status_t ss_waveform_init_f32(const ss_waveform_config_f32_t *cfg, float dt_s
     st->tau0_s = 0.0f;
     st->index = 0u;
     st->j = 0u;
+    st->peak_s = st->period_s;
+    if (cfg->kind == SS_WAVE_SAWTOOTH) {
+        st->peak_s = ((cfg->direction < 0) ? 1.0f - cfg->rise_fraction : cfg->rise_fraction) * st->period_s;
+    }
+    st->corner_s = st->peak_s;
     return SS_OK;
 }
 
@@ -130,10 +135,39 @@ void ss_waveform_advance_f32(ss_waveform_state_f32_t *st)
         tau -= st->period_s;
         st->tau0_s = tau;
         st->j = 0u;
+        st->corner_s = st->peak_s;
         if (st->index < UINT32_MAX) {
             st->index++;
         }
     }
+    if (tau >= st->corner_s) {
+        st->corner_s = st->period_s; /* past the peak: the period's end is next */
+    }
+}
+
+int ss_waveform_corner_f32(const ss_waveform_config_f32_t *cfg, const ss_waveform_state_f32_t *st,
+                           float *frac_out, float *v_out)
+{
+    /* every step asks: one multiply-add and a compare while the next corner is beyond this step */
+    const float tau = st->tau0_s + (float)st->j * st->dt_s;
+    const float d = st->corner_s - tau;
+    if (d >= (1.0f - SS_WAVEFORM_CORNER_MIN_FRAC) * st->dt_s || d <= SS_WAVEFORM_CORNER_MIN_FRAC * st->dt_s) {
+        return 0; /* beyond the step, or on its start (on the grid) */
+    }
+    if (cfg->kind == SS_WAVE_SAWTOOTH) {
+        if (st->index >= cfg->cycles) {
+            return 0; /* holding */
+        }
+        /* the peak, or the period's end where the drive is back at offset */
+        *v_out = cfg->offset_v + ((st->corner_s < st->period_s) ? cfg->amplitude_v : 0.0f);
+    } else {
+        if (st->index + 1u >= cfg->n_samples) {
+            return 0; /* holding the last sample */
+        }
+        *v_out = cfg->samples_v[st->index + 1u];
+    }
+    *frac_out = d / st->dt_s;
+    return 1;
 }
 
 ss_status_t ss_waveform_fill_f32(const ss_waveform_config_f32_t *cfg, ss_waveform_state_f32_t *st, float *out,

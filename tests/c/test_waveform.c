@@ -98,6 +98,76 @@ static void test_fill_matches_player(void **unused)
     assert_int_equal(ss_waveform_fill_f32(&w, &a, NULL, 0), SS_OK);
 }
 
+/* Every corner the player reports over n steps: count, and the largest error of the time and
+ * drive it gives against the analytic corners of a sawtooth (forward and reverse) or samples. */
+typedef struct {
+    int count;
+    double worst_t_s, worst_v;
+} corners_t;
+
+static corners_t corners_over(const ss_waveform_config_f32_t *w, float dt, uint32_t n, const double *t_true,
+                              const double *v_true, int n_true)
+{
+    ss_waveform_state_f32_t st;
+    assert_int_equal(ss_waveform_init_f32(w, dt, &st), SS_OK);
+    corners_t c = {0, 0.0, 0.0};
+    for (uint32_t k = 0; k < n; ++k) {
+        float frac = -1.0f;
+        float v = 0.0f;
+        if (ss_waveform_corner_f32(w, &st, &frac, &v)) {
+            assert_true(frac > 0.0f && frac < 1.0f);
+            assert_true(c.count < n_true);
+            const double t = ((double)k + (double)frac) * (double)dt;
+            c.worst_t_s = fmax(c.worst_t_s, fabs(t - t_true[c.count]));
+            c.worst_v = fmax(c.worst_v, fabs((double)v - v_true[c.count]));
+            c.count++;
+        }
+        ss_waveform_advance_f32(&st);
+    }
+    return c;
+}
+
+/* Corners inside steps: a 300 Hz sawtooth at 1 us has its corners off the grid but for the second
+ * peak (1.95 periods = 6500 us; reversed, 1.05 periods = 3500 us): 3 corners in two periods, the
+ * last where the drive starts to hold. A 500 Hz one at 1 us has them on it (none reported), and a
+ * drive sampled every 2.5 us bends inside a 1 us step at 2.5 and 7.5 us. */
+static void test_corners_inside_steps(void **unused)
+{
+    (void)unused;
+    const double p = 1.0 / 300.0;
+    ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(300.0f, 100.0f, 5.0f, 0.95f, 1, 2);
+    const double t_fwd[3] = {0.95 * p, p, 2.0 * p};
+    const double v_fwd[3] = {105.0, 5.0, 5.0};
+    corners_t c = corners_over(&w, 1e-6f, 8000u, t_fwd, v_fwd, 3);
+    print_message("300 Hz: %d corners, time within %.3g s, drive within %.3g V\n", c.count, c.worst_t_s,
+                  c.worst_v);
+    assert_int_equal(c.count, 3);
+    assert_true(c.worst_t_s < 2e-9); /* float32 time into a 3.3 ms period: a few ulp of 2.4e-10 s */
+    assert_true(c.worst_v == 0.0);
+    w.direction = -1; /* the peak at 0.05 of the period */
+    const double t_rev[3] = {0.05 * p, p, 2.0 * p};
+    c = corners_over(&w, 1e-6f, 8000u, t_rev, v_fwd, 3);
+    assert_int_equal(c.count, 3);
+    assert_true(c.worst_t_s < 2e-9);
+    /* on the grid */
+    ss_waveform_config_f32_t paper = ss_waveform_paper_f32();
+    c = corners_over(&paper, 1e-6f, 20000u, t_fwd, v_fwd, 0);
+    assert_int_equal(c.count, 0);
+    /* sampled: 0, 1, 0, 1 V every 2.5 us; corners at 2.5 and 7.5 us fall inside 1 us steps (5 us is
+     * on the grid), and the last sample (10 us) too */
+    static const float samples[5] = {0.0f, 1.0f, 0.0f, 1.0f, 0.0f};
+    ss_waveform_config_f32_t sw = ss_waveform_sawtooth_f32(1.0f, 1.0f, 0.0f, 0.5f, 1, 1);
+    sw.kind = SS_WAVE_SAMPLED;
+    sw.samples_v = samples;
+    sw.n_samples = 5u;
+    sw.sample_interval_s = 2.5e-6f;
+    const double t_s[2] = {2.5e-6, 7.5e-6};
+    const double v_s[2] = {1.0, 1.0};
+    c = corners_over(&sw, 1e-6f, 12u, t_s, v_s, 2);
+    assert_int_equal(c.count, 2);
+    assert_true(c.worst_t_s < 1e-12);
+}
+
 static void test_waveform_validation(void **unused)
 {
     (void)unused;
@@ -137,6 +207,7 @@ int main(void)
         cmocka_unit_test(test_long_run_keeps_phase),
         cmocka_unit_test(test_sampled_interpolates_and_holds),
         cmocka_unit_test(test_fill_matches_player),
+        cmocka_unit_test(test_corners_inside_steps),
         cmocka_unit_test(test_waveform_validation),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
