@@ -127,12 +127,15 @@ void ss_ls_advance_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *s
     }
     /* Elastic-plastic split of the increment: what the presliding element does not take up
      * elastically has slipped (zero right after a reversal). It counts as gross slip only once the
-     * presliding force nears its saturation, so presliding stays rate independent. */
+     * presliding force nears its saturation, so presliding stays rate independent. The gate is
+     * taken as its mean over the step (its two ends): at the end alone, a step in which the contact
+     * saturates counted all its slip as gross, and the level fell too fast at the break-away (the
+     * first-order error of the LS step, docs/model.md). */
     float slip = dx_m - (st->fm_n - fm_old) / cfg->sigma0_n_per_m;
     if (slip * dx_m < 0.0f) {
         slip = 0.0f; /* rounding only: the tangent stiffness never exceeds sigma0 */
     }
-    slip *= breakaway_gate(fabsf(st->fm_n) / cfg->fs_n);
+    slip *= 0.5f * (breakaway_gate(fabsf(fm_old) / cfg->fs_n) + breakaway_gate(fabsf(st->fm_n) / cfg->fs_n));
     /* LuGre in the slip: the break-away level s relaxes to g(v_slip) over the distance g/sigma0,
      * exact for a slip velocity frozen over the step. */
     const float g = ss_stribeck_f32(cfg, slip / dt_s);

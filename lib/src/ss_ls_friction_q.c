@@ -138,7 +138,10 @@ void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
     if ((slip > 0 && dx_q40 < 0) || (slip < 0 && dx_q40 > 0)) {
         slip = 0; /* rounding only: the tangent stiffness never exceeds sigma0 */
     }
-    slip = ss_shr_round(slip * breakaway_gate_q30(cfg, st->fm_q24), 30);
+    /* the gate's mean over the step, as the float step (ss_ls_friction_f32.c) */
+    const int64_t gate =
+        ss_shr_round(breakaway_gate_q30(cfg, fm_old) + breakaway_gate_q30(cfg, st->fm_q24), 1);
+    slip = ss_shr_round(slip * gate, 30);
     if (slip == 0) {
         return; /* no gross slip: the level keeps its value (exp(0) = 1) */
     }

@@ -702,7 +702,7 @@ static void test_q_bit_exact_reference(void **unused)
     assert_int_equal(ss_waveform_init_q(&w, cfg.dt_q40, &ws), SS_OK);
     assert_int_equal(ss_actuator_init_q(&cfg, &st, ss_waveform_value_q(&w, &ws)), SS_OK);
     assert_int_equal(ss_actuator_run_q(&cfg, &st, &w, &ws, 1000u, 250u, NULL, &rows), SS_OK);
-    assert_true(st.x_slider_q40 == 9376679); /* SS_Q_CHECK_X_SLIDER in q_check.c: 8.53 um */
+    assert_true(st.x_slider_q40 == 9386164); /* SS_Q_CHECK_X_SLIDER in q_check.c: 8.54 um */
 }
 
 static void test_q_abi_sizes(void **unused)
