@@ -70,7 +70,7 @@ ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
 /* One step whose drive bends inside it: linear from its current value to corner_v at
  * corner_frac x dt (0 < corner_frac < 1), then linear to drive_v. The rod's flow is taken in the
  * two pieces (each exact), so a sawtooth's edge inside a step is not cut to the chord: with the
- * corner on the chord instead, a 15 us fall at a 2 us step puts 0.2-0.9 % into a cycle's step
+ * corner on the chord instead, a 15 us fall at a 2 us step put 0.5-0.9 % into a cycle's step
  * (docs/model.md). Costs two evaluations of the flow (cos, sin, exp), so on a target it is a
  * step that takes longer than the others. Bad corner_frac: SS_ERR_RANGE, state unchanged. */
 ss_status_t ss_actuator_step_corner_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,

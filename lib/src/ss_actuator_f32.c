@@ -277,15 +277,10 @@ static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f
     if (corner_frac > 0.0f) {
         x_p1 = drift_with_corner(cfg, st, drive_v, corner_frac, corner_v);
     } else {
-        /* the drift's straight form, as rod_drift with the flow over dt from init */
+        /* one straight piece, with the flow over dt from init */
         x_p1 = ss_effects_drive_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, dt);
         const float a1 = x_p1 + (x_b0 + st->fx.v_base_m_per_s * dt);
-        const float b = (a1 - a0) / dt;
-        const float lag = cfg->piezo_damping_kg_per_s * b / cfg->piezo_stiffness_n_per_m;
-        const float e0 = x_rod0 - (a0 - lag);
-        const float ed0 = st->v_rod_m_per_s - b;
-        st->x_rod_m = (a1 - lag) + (st->phi[0] * e0 + st->phi[1] * ed0);
-        st->v_rod_m_per_s = b + (st->phi[2] * e0 + st->phi[3] * ed0);
+        rod_drift(cfg, st->phi, dt, a0, a1, &st->x_rod_m, &st->v_rod_m_per_s);
     }
     const float x_b1 = x_b0 + st->fx.v_base_m_per_s * dt;
     const float dx_slider = st->v_slider_m_per_s * dt;
