@@ -3,7 +3,8 @@
 A model point is (friction law, ActuatorParams, Effects). A fit frees a chosen set of base
 parameters (catalog.BASE_FACTOR) and the parameters of a list of causes, and minimises the
 position residual over the given runs, scaled by the measurement noise, with scipy's
-least_squares. Its Jacobian at the optimum gives each parameter's standard error. Every function
+least_squares (finite-difference Jacobians at up to JAC_MAX_DT_S). Its Jacobian at the optimum
+gives each parameter's standard error. Every function
 here is a plain top-level function of picklable arguments, so an Executor (local processes, Dask)
 can run it anywhere."""
 
@@ -19,6 +20,7 @@ from functools import cache
 import numpy as np
 from scipy.optimize import least_squares
 from scipy.signal import resample_poly
+from threadpoolctl import threadpool_limits
 
 from ..dataset import Run
 from ..model import ActuatorParams, Effects, Sawtooth, major_loop_gain, simulate
@@ -30,10 +32,25 @@ MAX_DT_S = 1e-6  # the model's step: converged to 0.08 % per cycle (docs/model.m
 MAX_FIT_RATE_HZ = 50e3
 MAX_POINTS_PER_RUN = 1500  # residual samples per run in a fit (every k-th sample)
 MIN_STEP_OVER_NOISE = 50.0  # a run steps when its mean step is above this x noise
+# The fits' finite-difference Jacobians simulate at up to twice the model's step: they set only
+# the direction of each least-squares step (the residual itself, hence the optimum, is at
+# MAX_DT_S), and a derivative off by the 2 us step's 0.3 % per cycle leaves the optimum where it
+# was; each column then costs half. Not where a base resonance rings: its phase error over a run
+# at 2 us bent the Jacobian enough to stop a base-compliance fit at 59 nm instead of 25 nm
+# (BENCHMARKS.md, "Coarse Jacobians").
+JAC_MAX_DT_S = 2e-6
 H_THETA = 1e-3  # finite-difference step in theta (0.1 % of a scale, 1e-3 ref of a signed value)
 # A parameter whose standard error exceeds this share of its value (of its reference, for signed
 # ones) is not pinned down by the runs: it is held at its nominal value and reported as such.
 MAX_REL_STDERR = 0.3
+
+
+def one_blas_thread() -> threadpool_limits:
+    """A context in which BLAS runs on one thread. The fits' matrices are small (thousands of rows
+    by a dozen columns); OpenBLAS's threads then gain nothing and spin, once woken, on the cores
+    the simulations need: a diagnosis took 21 % less wall time with the same simulations and the
+    same answer (BENCHMARKS.md)."""
+    return threadpool_limits(limits=1, user_api="blas")
 
 
 @dataclass
@@ -147,16 +164,16 @@ def slider_start_m(run: FitRun, effects: Effects) -> float:
     return float(run.x_m[0]) / (1.0 + effects.sensor_scale_error)
 
 
-def sim_step_s(run: FitRun) -> tuple[float, int]:
+def sim_step_s(run: FitRun, max_dt_s: float = MAX_DT_S) -> tuple[float, int]:
     """Model step dividing the fit's sample interval exactly, and the decimation."""
-    dec = max(1, math.ceil(run.dt_s / MAX_DT_S - 1e-9))
+    dec = max(1, math.ceil(run.dt_s / max_dt_s - 1e-9))
     return run.dt_s / dec, dec
 
 
-def predict(run: FitRun, model: Model) -> np.ndarray:
+def predict(run: FitRun, model: Model, max_dt_s: float = MAX_DT_S) -> np.ndarray:
     """What the sensor would have reported at the run's fit sample times under this model. The
     slider's start is a nuisance offset per run, placed by least squares over the whole run."""
-    dt, dec = sim_step_s(run)
+    dt, dec = sim_step_s(run, max_dt_s)
     params = major_loop_gain(model.params, model.effects, run.stroke_v)
     x0 = slider_start_m(run, model.effects)
     n = len(run.t_s) - 1
@@ -212,21 +229,23 @@ def _sim_pool() -> ThreadPoolExecutor:
     return _SIM_POOLS[pid]
 
 
-def _predict_or_far(run: FitRun, model: Model) -> np.ndarray:
+def _predict_or_far(run: FitRun, model: Model, max_dt_s: float = MAX_DT_S) -> np.ndarray:
     try:
-        return predict(run, model)
+        return predict(run, model, max_dt_s)
     except ValueError:  # a parameter the C library rejects: far off, not a crash
         return np.full(len(run.x_m), 1.0)
 
 
-def predict_all(runs: list[FitRun], model: Model, far_on_error: bool = False) -> list[np.ndarray]:
+def predict_all(
+    runs: list[FitRun], model: Model, far_on_error: bool = False, max_dt_s: float = MAX_DT_S
+) -> list[np.ndarray]:
     """predict() on every run, the runs spread over the simulation threads (longest first).
     far_on_error: a model the C library rejects gives a position of 1 m instead of an error."""
     fn = _predict_or_far if far_on_error else predict
     if len(runs) < 2:
-        return [fn(r, model) for r in runs]
+        return [fn(r, model, max_dt_s) for r in runs]
     order = sorted(range(len(runs)), key=lambda i: -len(runs[i].x_m))
-    futs = {i: _sim_pool().submit(fn, runs[i], model) for i in order}
+    futs = {i: _sim_pool().submit(fn, runs[i], model, max_dt_s) for i in order}
     return [futs[i].result() for i in range(len(runs))]
 
 
@@ -283,13 +302,18 @@ def _cycle_refs(run: FitRun) -> np.ndarray | None:
 
 
 def residuals(
-    runs: list[FitRun], model: Model, noise_m: float, every: list[int], per_cycle: bool = False
+    runs: list[FitRun],
+    model: Model,
+    noise_m: float,
+    every: list[int],
+    per_cycle: bool = False,
+    max_dt_s: float = MAX_DT_S,
 ) -> np.ndarray:
     """Simulated minus measured position over noise, every k-th sample. per_cycle measures each
     sample from the start of its period instead: the residual no longer accumulates over a run,
     which keeps the cost smooth far from the optimum (a fit's first stage)."""
     parts = []
-    for run, k, x in zip(runs, every, predict_all(runs, model, far_on_error=True)):
+    for run, k, x in zip(runs, every, predict_all(runs, model, True, max_dt_s)):
         r = x - run.x_m
         refs = _cycle_refs(run) if per_cycle else None
         if refs is not None:
@@ -382,6 +406,21 @@ def fit(
     polish: bool = False,
     grid: bool = True,
 ) -> FitResult:
+    """_fit with BLAS on one thread (it may run in an executor's process, outside diagnose)."""
+    with one_blas_thread():
+        return _fit(runs, nominal, start, free, noise_m, max_nfev, polish, grid)
+
+
+def _fit(
+    runs: list[FitRun],
+    nominal: ActuatorParams,
+    start: Model,
+    free: Free,
+    noise_m: float,
+    max_nfev: int = 30,
+    polish: bool = False,
+    grid: bool = True,
+) -> FitResult:
     """Least-squares fit of the free parameters on runs, from start (which also holds every value
     that is not free). A cause's parameters start where start has them, else at the catalog's
     start; scale parameters with a grid are first tried at each grid value (their cost is not
@@ -406,10 +445,13 @@ def fit(
     lo = np.array([s.bounds()[0] for s in specs])
     hi = np.array([s.bounds()[1] for s in specs])
     counter = [0]
+    rings = "base_compliance" in free.causes or start.effects.base_mass_kg != 0.0
+    jac_dt = MAX_DT_S if rings else JAC_MAX_DT_S
 
-    def res_at(theta: np.ndarray, per_cycle: bool) -> np.ndarray:
+    def res_at(theta: np.ndarray, per_cycle: bool, max_dt_s: float = MAX_DT_S) -> np.ndarray:
         counter[0] += 1
-        return residuals(runs, build(start, free, theta, specs), noise_m, every, per_cycle)
+        m = build(start, free, theta, specs)
+        return residuals(runs, m, noise_m, every, per_cycle, max_dt_s)
 
     def solve(theta0: np.ndarray, per_cycle: bool, nfev: int, tol: float):
         cache: dict[bytes, np.ndarray] = {}
@@ -424,13 +466,13 @@ def fit(
         def jac(theta: np.ndarray) -> np.ndarray:
             # forward differences with an absolute step of H_THETA: well above the float32
             # rounding of the model, well below its scales (scipy's relative steps vanish at 0)
-            f0 = fun(theta)
+            f0 = fun(theta) if jac_dt == MAX_DT_S else res_at(theta, per_cycle, jac_dt)
             cols = []
             for i in range(len(theta)):
                 th = theta.copy()
                 h = H_THETA if th[i] + H_THETA <= hi[i] else -H_THETA
                 th[i] += h
-                cols.append((res_at(th, per_cycle) - f0) / h)
+                cols.append((res_at(th, per_cycle, jac_dt) - f0) / h)
             return np.column_stack(cols)
 
         return least_squares(

@@ -54,6 +54,15 @@ CV_MAX_HARM = 1.5
 # load, seed 101: 3x the others' total gain lost at 1000 Hz alone).
 FWD_SHARE = 0.25  # share of the excess error a cause must remove when it is added
 FINAL_SHARE = 0.5  # ... and that it must account for in the final model (backward check)
+# ... and in a final model that stays unexplained (error above 3 x the noise). The base model is
+# then wrong in a way no cause describes, and a flexible term takes a part of any such misfit: on
+# clean data of a presliding law none of ours has (the independent generator's ls_b), a base
+# compliance removed 54 % and a hysteresis 65 % of the calibrated law's error and passed every
+# other guard. A cause the data force carries most of what is left without it: that generator's
+# Prandtl-Ishlinskii hysteresis, a form our Bouc-Wen loop only approaches, 89 %; its slew limit,
+# base compliance and load 99.7 to 99.99 %. The threshold sits between the two groups, on few
+# cases: the hit-rate tables (BENCHMARKS.md) are its test.
+UNEXPLAINED_FINAL_SHARE = 0.8
 
 
 def families(runs: list[FitRun]) -> list[tuple[str, list[int]]]:

@@ -1,0 +1,88 @@
+"""Where one diagnosis spends its time: wall time per phase and simulations (passes over the runs,
+`fit.predict_all` calls) per progress stage, then the candidates of every round with their
+validation error and the guards' verdict. Figures in BENCHMARKS.md.
+
+    PYTHONPATH=hil .venv/bin/python bench/diagnosis_profile.py amplifier_slew_limit 100
+    PYTHONPATH=hil .venv/bin/python bench/diagnosis_profile.py own:base_compliance 101
+
+CASE is a case of diagnosis_bench.py's independent table (at --rate-hz, 250 kS/s by default), or
+own:CASE for its own-generator table. The dataset is generated into --data (kept: a second run
+skips the generation).
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import sys
+import time
+from pathlib import Path
+
+import diagnosis_bench as B
+
+from stickslip.diagnosis import fit as F
+from stickslip.diagnosis import pipeline as PL
+
+
+def dataset(case: str, seed: int, rate_hz: float, data: Path) -> Path:
+    data.mkdir(parents=True, exist_ok=True)
+    if case.startswith("own:"):
+        name = case[4:]
+        causes, kw = {n: (c, k) for n, c, k in B.OWN_CASES}[name]
+        path = data / f"own_{name}_{seed}"
+        if not path.exists():
+            B.make_own(data, f"own_{name}_{seed}_", causes, kw, seed).rename(path)
+        return path
+    causes, kw = {n: (c, k) for n, c, k in B.IND_CASES}[case]
+    path = data / f"{case}_{seed}_{int(rate_hz)}"
+    if not path.exists():
+        B.make_independent(
+            data, f"{case}_{seed}_{int(rate_hz)}_", causes, kw, seed, rate_hz
+        ).rename(path)
+    return path
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("case")
+    ap.add_argument("seed", type=int)
+    ap.add_argument("--rate-hz", type=float, default=250e3)
+    ap.add_argument("--data", type=Path, default=Path("out/diagnosis-profile"))
+    a = ap.parse_args()
+    path = dataset(a.case, a.seed, a.rate_hz, a.data)
+
+    calls: collections.Counter[str] = collections.Counter()
+    stage = ["start"]
+    original = F.predict_all
+
+    def counted(*args, **kwargs):
+        calls[stage[0]] += 1  # jobs still running from the stage before count here too
+        return original(*args, **kwargs)
+
+    F.predict_all = counted  # residuals() and evaluate() look it up at call time
+    t0 = time.perf_counter()
+
+    def say(msg: str) -> None:
+        stage[0] = msg.split(":")[0][:40]
+        print(f"{time.perf_counter() - t0:7.1f} s  {msg}", flush=True)
+
+    d = PL.diagnose(path, progress=say)
+    print(f"causes {d.causes}, unexplained {d.unexplained}, {time.perf_counter() - t0:.1f} s")
+    print("phases (s):", {k: round(v, 1) for k, v in d.timing_s.items()})
+    print(f"simulations: {sum(calls.values())}", dict(calls))
+    for i, rnd in enumerate(d.rounds):
+        for c in rnd:
+            v = c.verdict
+            verdict = "" if v is None else ("confirmed" if v.confirmed else "; ".join(v.reasons))
+            print(
+                f"round {i}: {'+'.join(c.causes)} ({c.law}) {c.val.rmse_m * 1e9:.2f} nm  {verdict}"
+            )
+    print(
+        f"baseline {d.baseline.val.rmse_m * 1e9:.2f} nm, chosen {d.chosen.val.rmse_m * 1e9:.2f} nm,"
+        f" sensor noise {d.sensor_noise_m * 1e9:.2f} nm"
+    )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
