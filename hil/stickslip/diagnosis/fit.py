@@ -10,12 +10,15 @@ can run it anywhere."""
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 import os
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, replace
 from functools import cache
+from typing import Any, TypeVar, cast
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -51,6 +54,20 @@ def one_blas_thread() -> threadpool_limits:
     the simulations need: a diagnosis took 21 % less wall time with the same simulations and the
     same answer (BENCHMARKS.md)."""
     return threadpool_limits(limits=1, user_api="blas")
+
+
+_Fn = TypeVar("_Fn", bound=Callable[..., Any])
+
+
+def with_one_blas_thread(fn: _Fn) -> _Fn:
+    """fn, run inside one_blas_thread()."""
+
+    @functools.wraps(fn)
+    def wrapped(*args: Any, **kwargs: Any) -> Any:
+        with one_blas_thread():
+            return fn(*args, **kwargs)
+
+    return cast(_Fn, wrapped)
 
 
 @dataclass
@@ -396,22 +413,8 @@ def rel_stderr(p: Param, value: float, stderr: float) -> float:
     return stderr / scale if scale > 0 else math.inf
 
 
+@with_one_blas_thread  # a fit may run in an executor's process, outside diagnose()
 def fit(
-    runs: list[FitRun],
-    nominal: ActuatorParams,
-    start: Model,
-    free: Free,
-    noise_m: float,
-    max_nfev: int = 30,
-    polish: bool = False,
-    grid: bool = True,
-) -> FitResult:
-    """_fit with BLAS on one thread (it may run in an executor's process, outside diagnose)."""
-    with one_blas_thread():
-        return _fit(runs, nominal, start, free, noise_m, max_nfev, polish, grid)
-
-
-def _fit(
     runs: list[FitRun],
     nominal: ActuatorParams,
     start: Model,

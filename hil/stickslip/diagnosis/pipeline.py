@@ -28,9 +28,9 @@ from .fit import (
     evaluate,
     filter_noise_gain,
     fit,
-    one_blas_thread,
     predict_all,
     prepare_all,
+    with_one_blas_thread,
 )
 from .guards import (
     FINAL_SHARE,
@@ -534,6 +534,7 @@ class _Session:
         return v
 
 
+@with_one_blas_thread
 def diagnose(
     path: str | Path,
     executor: Executor | None = None,
@@ -542,16 +543,6 @@ def diagnose(
 ) -> Diagnosis:
     """Diagnose a dataset folder. Simulations run in `executor` (local threads by default; any
     concurrent.futures Executor works, e.g. dask.distributed's Client.get_executor())."""
-    with one_blas_thread():
-        return _diagnose(path, executor, progress, laws)
-
-
-def _diagnose(
-    path: str | Path,
-    executor: Executor | None,
-    progress: Callable[[str], None] | None,
-    laws: tuple[str, ...],
-) -> Diagnosis:
     say = progress or (lambda msg: None)
     t_start = time.perf_counter()
     ds = D.load(path)  # validated whole before anything runs
