@@ -70,6 +70,8 @@ def main() -> int:
     print(f"causes {d.causes}, unexplained {d.unexplained}, {time.perf_counter() - t0:.1f} s")
     print("phases (s):", {k: round(v, 1) for k, v in d.timing_s.items()})
     print(f"simulations: {sum(calls.values())}", dict(calls))
+    laws = ", ".join(f"{n} {c.val.rmse_m * 1e9:.2f} nm" for n, c in d.laws.items())
+    print(f"laws calibrated: {laws}; causes added to {d.base.law}")
     for i, rnd in enumerate(d.rounds):
         for c in rnd:
             v = c.verdict
