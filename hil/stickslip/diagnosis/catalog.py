@@ -180,9 +180,6 @@ CAUSE_PARAMS: dict[str, tuple[Param, ...]] = {
     "sensor_scale_error": (Param("sensor_scale_error", "lin", 0.01, -0.4, 0.4, phys=(-0.1, 0.1)),),
 }
 
-# Values an effect needs besides its fitted parameters (fixed, documented in docs/diagnosis.md).
-CAUSE_FIXED: dict[str, dict[str, float]] = {}
-
 # Starting values (lin params start at zero = off, so a fit starts from the baseline).
 CAUSE_START: dict[str, dict[str, float]] = {
     "piezo_hysteresis": {"hysteresis_alpha": 0.05, "hysteresis_width_m": 1e-6},

@@ -27,7 +27,7 @@ from threadpoolctl import threadpool_limits
 
 from ..dataset import Run
 from ..model import ActuatorParams, Effects, Sawtooth, major_loop_gain, simulate
-from .catalog import CAUSE_FIXED, CAUSE_PARAMS, CAUSE_START, Param, base_param
+from .catalog import CAUSE_PARAMS, CAUSE_START, Param, base_param
 
 MAX_DT_S = 1e-6  # the model's step: converged to 0.08 % per cycle (docs/model.md)
 # Fits and figures work on the measured positions anti-alias filtered and decimated to at most
@@ -40,7 +40,7 @@ MIN_STEP_OVER_NOISE = 50.0  # a run steps when its mean step is above this x noi
 # MAX_DT_S), and a derivative off by the 2 us step's 0.3 % per cycle leaves the optimum where it
 # was; each column then costs half. Not where a base resonance rings: its phase error over a run
 # at 2 us bent the Jacobian enough to stop a base-compliance fit at 59 nm instead of 25 nm
-# (BENCHMARKS.md, "Coarse Jacobians").
+# (BENCHMARKS.md, "Faster, and a stricter word on unexplained data").
 JAC_MAX_DT_S = 2e-6
 H_THETA = 1e-3  # finite-difference step in theta (0.1 % of a scale, 1e-3 ref of a signed value)
 # A parameter whose standard error exceeds this share of its value (of its reference, for signed
@@ -51,7 +51,7 @@ MAX_REL_STDERR = 0.3
 def one_blas_thread() -> threadpool_limits:
     """A context in which BLAS runs on one thread. The fits' matrices are small (thousands of rows
     by a dozen columns); OpenBLAS's threads then gain nothing and spin, once woken, on the cores
-    the simulations need: a diagnosis took 21 % less wall time with the same simulations and the
+    the simulations need: a diagnosis took 22 % less wall time with the same simulations and the
     same answer (BENCHMARKS.md)."""
     return threadpool_limits(limits=1, user_api="blas")
 
@@ -148,9 +148,7 @@ class Model:
 
     def without(self, cause: str) -> Model:
         """The same model with one cause's effect switched off."""
-        off = {q.name: 0.0 for q in CAUSE_PARAMS[cause]} | dict.fromkeys(
-            CAUSE_FIXED.get(cause, {}), 0.0
-        )
+        off = {q.name: 0.0 for q in CAUSE_PARAMS[cause]}
         return replace(
             self,
             effects=replace(self.effects, **off),
@@ -300,10 +298,7 @@ def build(start: Model, free: Free, theta: np.ndarray, specs: list[Param]) -> Mo
     parameters and the free causes' parameters from theta."""
     nb = len(free.base)
     m = start.with_base({s.name: s.value(float(t)) for s, t in zip(specs[:nb], theta[:nb])})
-    kw: dict[str, float] = {}
-    for c in free.causes:
-        kw.update(CAUSE_FIXED.get(c, {}))
-    kw.update({s.name: s.value(float(t)) for s, t in zip(specs[nb:], theta[nb:])})
+    kw = {s.name: s.value(float(t)) for s, t in zip(specs[nb:], theta[nb:])}
     causes = m.causes + tuple(c for c in free.causes if c not in m.causes)
     return replace(m, effects=replace(m.effects, **kw), causes=causes)
 

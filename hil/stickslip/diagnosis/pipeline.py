@@ -18,7 +18,7 @@ from .. import dataset as D
 from ..model import DT_S, ActuatorParams, major_loop_gain
 from ..model_file import ModelFile
 from .calibrate import calibrate
-from .catalog import BASE_LAW, CAUSE_FIXED, CAUSE_PARAMS, CAUSES, FRICTION_LAW, LAW_PARAMS, LAWS
+from .catalog import BASE_LAW, CAUSE_PARAMS, CAUSES, FRICTION_LAW, LAW_PARAMS, LAWS
 from .fit import (
     Evaluation,
     FitResult,
@@ -463,7 +463,7 @@ class _Session:
             m = parent.fit.model
             if x.from_nominal:
                 m = self.at_nominal(replace(m, law=x.law))
-            fx = replace(m.effects, **CAUSE_FIXED.get(x.cause, {}), **start_values(x))
+            fx = replace(m.effects, **start_values(x))
             free = Free(self.free_base[m.law], (*parent.causes, x.cause))
             futs.append(self.submit_fit(replace(m, effects=fx), free, grid=False))
         return [self.cand(*_fv(fu), parent=parent) for fu in futs]
@@ -743,6 +743,8 @@ def _backward(s: _Session, chosen: Candidate) -> Candidate:
         }
         s.say(f"checking each of {'+'.join(chosen.causes)} is needed")
         weakest, reason = None, ""
+        explained = _explained_enough(chosen, s.sensor_noise_m)
+        need = FINAL_SHARE if explained else UNEXPLAINED_FINAL_SHARE
         for c, fu in futs.items():
             f, v = fu.result()
             reduced = s.cand(f, v, parent=chosen.parent)
@@ -753,18 +755,13 @@ def _backward(s: _Session, chosen: Candidate) -> Candidate:
             if len(chosen.causes) == 1 and cal is not None and cal.score < reduced.score:
                 reduced = cal
             share = share_removed(reduced.mse_over_noise, chosen.mse_over_noise)
-            need = (
-                FINAL_SHARE
-                if _explained_enough(chosen, s.sensor_noise_m)
-                else UNEXPLAINED_FINAL_SHARE
-            )
             if not s.better(chosen, reduced):
                 weakest, reason = (c, reduced), "the model without it is as good"
             elif share < need:
                 weakest, reason = (
                     (c, reduced),
                     f"accounts for only {100 * share:.0f} % of the error left without it (in a "
-                    + ("" if need == FINAL_SHARE else "model that stays unexplained, ")
+                    + ("" if explained else "model that stays unexplained, ")
                     + f"a cause must account for {100 * need:.0f} %)",
                 )
             if weakest is not None:

@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .catalog import CAUSE_FIXED, CAUSE_PARAMS, CAUSE_START
+from .catalog import CAUSE_PARAMS, CAUSE_START
 from .fit import MAX_POINTS_PER_RUN, FitRun, Model, residuals
 from .guards import LM_DAMPING, Linearization
 
@@ -49,7 +49,7 @@ def probe_residual(
     if cause is None:
         every = [max(1, len(r.x_m) // MAX_POINTS_PER_RUN) for r in runs]
         return residuals(runs, model, noise_m, every, per_cycle)
-    fx = replace(model.effects, **CAUSE_FIXED.get(cause, {}), **values)
+    fx = replace(model.effects, **values)
     m = replace(model, effects=fx, causes=(*model.causes, cause))
     every = [max(1, len(r.x_m) // MAX_POINTS_PER_RUN) for r in runs]
     return residuals(runs, m, noise_m, every, per_cycle)
