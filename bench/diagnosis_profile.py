@@ -83,6 +83,8 @@ def main() -> int:
         f"baseline {d.baseline.val.rmse_m * 1e9:.2f} nm, chosen {d.chosen.val.rmse_m * 1e9:.2f} nm,"
         f" sensor noise {d.sensor_noise_m * 1e9:.2f} nm"
     )
+    fitted = {k: v for k, v in d.chosen.fit.values.items() if "." in k}
+    print("chosen causes' values:", {k: float(f"{v:.4g}") for k, v in fitted.items()})
     return 0
 
 

@@ -294,6 +294,8 @@ _proto("ss_actuator_config_check_f32", C.c_int, C.POINTER(ActuatorConfig), C.POI
 _proto("ss_actuator_init_f32", C.c_int, C.POINTER(ActuatorConfig), _P, C.c_float)
 _proto("ss_actuator_step_f32", C.c_int, C.POINTER(ActuatorConfig), _P, C.c_float)
 _proto("ss_actuator_place_slider_f32", None, _P, C.c_float)
+_proto("ss_actuator_heat_f32", C.c_float, _P)
+_proto("ss_actuator_set_heat_f32", None, _P, C.c_float)
 _proto(
     "ss_actuator_record_f32",
     None,
@@ -568,10 +570,16 @@ def drive_samples(wave: WaveformConfig, dt_s: float, n_steps: int) -> np.ndarray
 
 
 def run_f32(
-    cfg: ActuatorConfig, wave: WaveformConfig, n_steps: int, decimation: int, x0_m: float = 0.0
-) -> dict[str, np.ndarray]:
-    """The float core from rest (slider at x0_m) over n_steps; every decimation-th step recorded,
-    the initial state first. Columns as TRACE_COLUMNS (float32, step uint32)."""
+    cfg: ActuatorConfig,
+    wave: WaveformConfig,
+    n_steps: int,
+    decimation: int,
+    x0_m: float = 0.0,
+    heat0_j: float = 0.0,
+) -> tuple[dict[str, np.ndarray], float]:
+    """The float core from rest (slider at x0_m, stored heat heat0_j) over n_steps; every
+    decimation-th step recorded, the initial state first. Returns columns as TRACE_COLUMNS
+    (float32, step uint32) and the stored heat at the end."""
     rows = n_steps // decimation
     cols = {name: np.zeros(rows + 1, np.float32) for name in TRACE_COLUMNS if name != "step"}
     cols["step"] = np.zeros(rows + 1, np.uint32)
@@ -582,6 +590,8 @@ def run_f32(
     check(lib.ss_actuator_init_f32(C.byref(cfg), st, v0), "actuator parameters")
     if x0_m != 0.0:
         lib.ss_actuator_place_slider_f32(st, x0_m)
+    if heat0_j != 0.0:
+        lib.ss_actuator_set_heat_f32(st, heat0_j)
     first = trace_for(cols, rows + 1)
     lib.ss_actuator_record_f32(C.byref(cfg), st, C.byref(first), 0)
     # the run writes from row 1 on: point a second trace one row in
@@ -591,7 +601,7 @@ def run_f32(
         C.byref(cfg), st, C.byref(wave), wst, n_steps, decimation, C.byref(tr), C.byref(written)
     )
     check(status, f"run stopped after {written.value * decimation} steps")
-    return cols
+    return cols, float(lib.ss_actuator_heat_f32(st))
 
 
 def run_q(

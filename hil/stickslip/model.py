@@ -241,6 +241,7 @@ class SimResult:
     waveform: Sawtooth | None = None
     meta: dict = field(default_factory=dict)
     variant: str = "f32"
+    heat_end_j: float = 0.0  # thermal_drift: the frictional heat stored at the end (J)
 
     @property
     def state_names(self) -> tuple[str, str]:
@@ -349,10 +350,13 @@ def simulate(
     effects: Effects | None = None,
     x0_m: float = 0.0,
     variant: str = "f32",
+    heat0_j: float = 0.0,
 ) -> SimResult:
     """Simulate the actuator under a sawtooth, or under sampled drive voltages (drive_v at
     drive_interval_s, linearly interpolated), with the C model; effects switch on optional
-    physics, x0_m is where the slider starts. variant "q" runs the fixed-point core (sawtooth
+    physics, x0_m is where the slider starts, heat0_j the frictional heat the contact holds at the
+    start (thermal_drift: what the run before left; SimResult.heat_end_j is what this one leaves).
+    variant "q" runs the fixed-point core (sawtooth
     drive, slider starting at 0; of the effects, the load, the slew limit, the sensor scale, the
     asymmetric friction, the hysteresis and the base:
     the converter refuses the others by name)."""
@@ -383,14 +387,19 @@ def simulate(
         raise ValueError(f"run too long: {n_steps} steps")
     if not math.isfinite(x0_m):
         raise ValueError(f"x0_m must be finite, got {x0_m}")
+    if not (math.isfinite(heat0_j) and heat0_j >= 0):
+        raise ValueError(f"heat0_j must be finite and >= 0, got {heat0_j}")
+    heat_end = 0.0
     if variant == "q":
+        if heat0_j != 0.0:
+            raise ValueError("the q variant has no thermal_drift (heat0_j must be 0)")
         if drive_v is not None:
             raise ValueError("the q variant plays sawtooth waveforms only (no sampled drive)")
         if x0_m != 0.0:
             raise ValueError("the q variant starts the slider at 0 (x0_m must be 0)")
         f64 = _si_from_q(N.run_q(cfg, wave_cfg, n_steps, decimation), model)
     else:
-        cols = N.run_f32(cfg, wave_cfg, n_steps, decimation, x0_m)
+        cols, heat_end = N.run_f32(cfg, wave_cfg, n_steps, decimation, x0_m, heat0_j)
         f64 = {k: v.astype(np.float64) for k, v in cols.items()}
     del samples  # kept alive until the run is over
     return SimResult(
@@ -409,6 +418,7 @@ def simulate(
         x_meas_m=f64["x_meas_m"],
         waveform=waveform if drive_v is None else None,
         variant=variant,
+        heat_end_j=heat_end,
     )
 
 

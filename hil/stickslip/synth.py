@@ -125,13 +125,14 @@ def generate(
     description: str = "",
 ) -> Path:
     """Write a dataset: every run of the design simulated with the true parameters and effects,
-    the slider carried from run to run, sensor noise and quantisation added. dataset.json carries
-    the nominal parameters (Table I unless given), never the truth. sensor_distortion_m adds a
-    periodic sensor error (20 um pitch) that no catalog cause describes."""
+    the slider and the contact's heat carried from run to run, sensor noise and quantisation
+    added. dataset.json carries the nominal parameters (Table I unless given), never the truth.
+    sensor_distortion_m adds a periodic sensor error (20 um pitch) that no catalog cause
+    describes."""
     rng = np.random.default_rng(seed)
     design = design or standard_design()
     runs = []
-    x_start = 0.0
+    x_start, heat = 0.0, 0.0
     # the nominal gain is the stroke over the largest amplitude's major loop, hysteresis and all
     params = major_loop_gain(truth.params, truth.effects, max(rd.amplitude_v for rd in design))
     for rd in design:
@@ -144,12 +145,13 @@ def generate(
             effects=truth.effects,
             x0_m=x_start,
             model=truth.law,
+            heat0_j=heat,
         )
         # the first sample is the state before the run (t = 0)
         t = sim.t_s
         x_true = sim.x_slider_m
         x_meas = sim.x_meas_m
-        x_start = float(x_true[-1])
+        x_start, heat = float(x_true[-1]), sim.heat_end_j
         if sensor_distortion_m:
             x_meas = x_meas + sensor_distortion_m * np.sin(2 * np.pi * x_true / 20e-6)
         x_noisy = x_meas + rng.normal(0.0, noise_rms_m, size=len(x_meas))

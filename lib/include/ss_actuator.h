@@ -84,6 +84,12 @@ ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_ac
 /* Put the slider at x_m (e.g. where a measured run starts; position-dependent friction sees it). */
 void ss_actuator_place_slider_f32(ss_actuator_state_f32_t *st, float x_m);
 
+/* The stored frictional heat of thermal_drift, J (ss_effects_state_f32_t.heat_j): read at the end
+ * of a run and given to the next, so that runs recorded one after another carry their heat over
+ * (init starts cold). A negative or non-finite heat_j is taken as 0. */
+float ss_actuator_heat_f32(const ss_actuator_state_f32_t *st);
+void ss_actuator_set_heat_f32(ss_actuator_state_f32_t *st, float heat_j);
+
 float ss_position_value_f32(ss_position_f32_t p);
 
 /* Columns a run may record; any pointer may be NULL. */

@@ -1,5 +1,6 @@
 #include "ss_actuator.h"
 
+#include <float.h>
 #include <math.h>
 #include <stddef.h>
 
@@ -354,6 +355,16 @@ void ss_actuator_place_slider_f32(ss_actuator_state_f32_t *st, float x_m)
 {
     st->x_slider.hi_m = x_m;
     st->x_slider.lo_m = 0.0f;
+}
+
+float ss_actuator_heat_f32(const ss_actuator_state_f32_t *st)
+{
+    return st->fx.heat_j;
+}
+
+void ss_actuator_set_heat_f32(ss_actuator_state_f32_t *st, float heat_j)
+{
+    st->fx.heat_j = (heat_j > 0.0f && heat_j <= FLT_MAX) ? heat_j : 0.0f; /* NaN fails both */
 }
 
 /* The friction model's two recorded states (ss_actuator_trace_f32_t: state_a, state_b). */

@@ -13,14 +13,14 @@ static double slider_x(const ss_actuator_state_f32_t *st)
     return (double)st->x_slider.hi_m + (double)st->x_slider.lo_m;
 }
 
-/* Play n periods of a 100 V sawtooth at f_hz; returns the slider travel over the last n - 1. */
-static double run_steps(const ss_actuator_config_f32_t *c, ss_actuator_state_f32_t *st, float f_hz, int dir,
-                        uint32_t n)
+/* Play n periods of a 100 V sawtooth at f_hz from the actuator's present state; returns the
+ * slider travel over the last n - 1. */
+static double play_steps(const ss_actuator_config_f32_t *c, ss_actuator_state_f32_t *st, float f_hz, int dir,
+                         uint32_t n)
 {
     ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(f_hz, 100.0f, 0.0f, 0.95f, dir, n);
     ss_waveform_state_f32_t ws;
     assert_int_equal(ss_waveform_init_f32(&w, c->dt_s, &ws), SS_OK);
-    assert_int_equal(ss_actuator_init_f32(c, st, 0.0f), SS_OK);
     double x1 = 0.0;
     while (ws.index < n) {
         ss_waveform_advance_f32(&ws);
@@ -30,6 +30,14 @@ static double run_steps(const ss_actuator_config_f32_t *c, ss_actuator_state_f32
         }
     }
     return slider_x(st) - x1;
+}
+
+/* The same from rest. */
+static double run_steps(const ss_actuator_config_f32_t *c, ss_actuator_state_f32_t *st, float f_hz, int dir,
+                        uint32_t n)
+{
+    assert_int_equal(ss_actuator_init_f32(c, st, 0.0f), SS_OK);
+    return play_steps(c, st, f_hz, dir, n);
 }
 
 static void test_check_names_fields(void **unused)
@@ -240,6 +248,34 @@ static void test_thermal(void **unused)
     assert_close(fx.heat_j, (double)q * exp(-0.01), 1e-5 * (double)q);
 }
 
+/* Runs recorded one after another: the heat one run leaves is where the next starts. Given the
+ * same heat, a run from a fresh init matches the continued one; garbage is taken as no heat. */
+static void test_heat_carried(void **unused)
+{
+    (void)unused;
+    ss_actuator_config_f32_t c = ss_actuator_config_table1_f32();
+    c.effects.thermal_coeff_per_j = 500.0f;
+    c.effects.thermal_tau_s = 1.0f;
+    ss_actuator_state_f32_t st;
+    (void)run_steps(&c, &st, 500.0f, 1, 11);
+    const float q = ss_actuator_heat_f32(&st);
+    assert_true(q == st.fx.heat_j && q > 0.0f);
+    const double cold = run_steps(&c, &st, 500.0f, 1, 11);
+    assert_int_equal(ss_actuator_init_f32(&c, &st, 0.0f), SS_OK);
+    assert_true(ss_actuator_heat_f32(&st) == 0.0f);
+    ss_actuator_set_heat_f32(&st, q);
+    /* warmer from the start: softer friction, longer steps than the cold run's */
+    const double warm = play_steps(&c, &st, 500.0f, 1, 11);
+    print_message("heat carried: cold %.5g um, warm start %.5g um over 10 periods\n", cold * 1e6, warm * 1e6);
+    assert_true(warm > cold * 1.001);
+    ss_actuator_set_heat_f32(&st, NAN);
+    assert_true(ss_actuator_heat_f32(&st) == 0.0f);
+    ss_actuator_set_heat_f32(&st, -1.0f);
+    assert_true(ss_actuator_heat_f32(&st) == 0.0f);
+    ss_actuator_set_heat_f32(&st, INFINITY);
+    assert_true(ss_actuator_heat_f32(&st) == 0.0f);
+}
+
 /* A base on a spring: plucked together with rod and slider it rings at the lower mode of base+rod
  * (M1, the piezo is rigid at these frequencies) on k_b, coupled to the slider (M2) through the
  * presliding stiffness sigma0: M1 M2 w^4 - (M1 s0 + M2 (k_b + s0)) w^2 + k_b s0 = 0. */
@@ -314,20 +350,9 @@ static void test_position_dependent_friction(void **unused)
     assert_close(ss_effects_friction_scale_f32(&c.effects, &fx, -1e-3f), 0.1, 1e-6); /* clamped */
     ss_actuator_state_f32_t st;
     const double near = run_steps(&c, &st, 500.0f, 1, 5);
-    ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, 5);
-    ss_waveform_state_f32_t ws;
-    assert_int_equal(ss_waveform_init_f32(&w, c.dt_s, &ws), SS_OK);
     assert_int_equal(ss_actuator_init_f32(&c, &st, 0.0f), SS_OK);
     ss_actuator_place_slider_f32(&st, 1e-4f);
-    double x1 = 0.0;
-    while (ws.index < 5u) {
-        ss_waveform_advance_f32(&ws);
-        assert_int_equal(ss_actuator_step_f32(&c, &st, ss_waveform_value_f32(&w, &ws)), SS_OK);
-        if (ws.index == 1u && ws.j == 0u) {
-            x1 = slider_x(&st);
-        }
-    }
-    const double far = slider_x(&st) - x1;
+    const double far = play_steps(&c, &st, 500.0f, 1, 5);
     /* more friction drags the slider further back on the fast edge: a smaller net step */
     assert_true(far < 0.9 * near);
 }
@@ -335,17 +360,12 @@ static void test_position_dependent_friction(void **unused)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_check_names_fields),
-        cmocka_unit_test(test_off_is_bit_identical),
-        cmocka_unit_test(test_external_load),
-        cmocka_unit_test(test_asymmetric_friction),
-        cmocka_unit_test(test_slew_limit),
-        cmocka_unit_test(test_creep),
-        cmocka_unit_test(test_hysteresis),
-        cmocka_unit_test(test_thermal),
-        cmocka_unit_test(test_base_compliance),
-        cmocka_unit_test(test_sensor_scale),
-        cmocka_unit_test(test_position_dependent_friction),
+        cmocka_unit_test(test_check_names_fields), cmocka_unit_test(test_off_is_bit_identical),
+        cmocka_unit_test(test_external_load),      cmocka_unit_test(test_asymmetric_friction),
+        cmocka_unit_test(test_slew_limit),         cmocka_unit_test(test_creep),
+        cmocka_unit_test(test_hysteresis),         cmocka_unit_test(test_thermal),
+        cmocka_unit_test(test_heat_carried),       cmocka_unit_test(test_base_compliance),
+        cmocka_unit_test(test_sensor_scale),       cmocka_unit_test(test_position_dependent_friction),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

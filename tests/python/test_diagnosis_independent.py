@@ -95,3 +95,30 @@ def test_piezo_hysteresis_is_named_first(tmp_path, executor):
     named = [c for c in j["causes"] if c not in NOT_EFFECTS]
     assert named[:1] == ["piezo_hysteresis"], j["causes"]
     assert j["gain"] > 0.5
+
+
+def test_thermal_drift_is_named_first(tmp_path, executor):
+    # the generator's runs follow one another and the contact stays warm from one to the next
+    # (50 V starts at its hottest); with every run started cold the fit predicted the 50 V and
+    # 75 V runs 2.4 and 3.7 x worse than the law alone, and it was missed on 5 seeds of 5
+    truth, j = _run(tmp_path, "lugre", ("thermal_drift",), executor)
+    named = [c for c in j["causes"] if c not in NOT_EFFECTS]
+    assert named[:1] == ["thermal_drift"], j["causes"]
+    assert not j["unexplained"]
+    # its strength per joule of heat: the generator's beta / C (friction times 1 - beta T,
+    # T = heat / C). The heat inputs differ: the generator's is the whole contact power F v,
+    # elastic exchange included; ours is the dissipation net of F^2 / 2 sigma0, never negative
+    # per step. Seed 100 gives 170 /J against 204 /J (17 % low); 25 % bounds that bias, and a
+    # model without the carried heat does not come near (not named at all)
+    th = truth["effects"]["thermal_drift"]
+    got = j["extended"]["params"]["thermal_drift.thermal_coeff_per_j"]
+    assert got == pytest.approx(th["beta_per_k"] / th["heat_capacity_j_per_k"], rel=0.25)
+
+
+def test_weak_sensor_error_the_law_absorbs_names_no_effect(tmp_path, executor):
+    # a cubic sensor nonlinearity (outside the catalog): the calibrated LuGre law leaves 2.6 x
+    # the noise, where a thermal drift and a position-dependent friction each explained most of
+    # the rest and the drift was named; within 3 x the noise no cause is sought
+    _, j = _run(tmp_path, "lugre", ("sensor_cubic",), executor)
+    assert [c for c in j["causes"] if c not in NOT_EFFECTS] == [], j["causes"]
+    assert all(c.get("screened_only") for c in j["candidates"] if c["name"] in CAUSES)

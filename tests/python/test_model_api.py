@@ -166,3 +166,46 @@ def test_major_loop_gain_keeps_the_nominal_stroke_under_hysteresis():
     # no hysteresis, or no stroke reference: the parameters as they are
     assert major_loop_gain(nominal, Effects(), 100.0) is nominal
     assert major_loop_gain(nominal, fx, 0.0) is nominal
+
+
+def test_heat_is_carried_from_one_run_to_the_next():
+    # thermal_drift: a run started with the heat the run before left slides on a softer contact
+    # (coeff > 0) than one started cold; the C library keeps q as given and reports it back
+    from stickslip.model import Effects
+
+    w = Sawtooth(frequency_hz=500.0, cycles=10)
+    fx = Effects(thermal_coeff_per_j=500.0, thermal_tau_s=1.0)
+    first = simulate(w, effects=fx)
+    q = first.heat_end_j
+    # ten slips of ~3 N x ~4 um, barely decayed over 20 ms of tau 1 s
+    assert 0.5e-4 < q < 3e-4
+    warm = simulate(w, effects=fx, heat0_j=q)
+    assert warm.heat_end_j > q  # more heat on top, little lost
+    cold_step = first.x_slider_m[-1] - first.x_slider_m[0]
+    warm_step = warm.x_slider_m[-1] - warm.x_slider_m[0]
+    assert warm_step > 1.01 * cold_step
+    assert simulate(w).heat_end_j == 0.0  # no thermal drift, no heat
+    for bad in (-1e-6, math.nan, math.inf):
+        with pytest.raises(ValueError, match="heat0_j"):
+            simulate(w, effects=fx, heat0_j=bad)
+
+
+def test_a_run_is_predicted_from_the_heat_the_runs_before_left(tmp_path):
+    # the diagnosis' prediction of a run with thermal drift depends on the runs recorded before
+    # it: asked alone or with the others, the same positions; started cold, other ones
+    from stickslip import synth
+    from stickslip.dataset import load
+    from stickslip.diagnosis.fit import Model, _predict_heat, predict, predict_all, prepare_all
+    from stickslip.model import Effects
+
+    design = synth.standard_design()[:3]
+    truth = synth.Truth(ActuatorParams.table1())
+    path = synth.generate(tmp_path / "ds", truth, seed=1, design=design)
+    runs = prepare_all(load(path).runs)
+    m = Model(ActuatorParams.table1(), Effects(thermal_coeff_per_j=800.0, thermal_tau_s=0.3))
+    together = predict_all(runs, m)
+    alone = predict(runs[2], m)
+    np.testing.assert_array_equal(alone, together[2])
+    np.testing.assert_array_equal(predict_all([runs[0], runs[2]], m)[1], together[2])
+    cold = _predict_heat(runs[2], m, 1e-6, 0.0)[0]
+    assert np.max(np.abs(cold - together[2])) > 5e-9

@@ -86,6 +86,9 @@ class FitRun:
     # the dataset's largest drive amplitude: a hysteresis keeps the nominal stroke over it
     # (model.major_loop_gain)
     stroke_v: float = 0.0
+    # the run recorded just before this one (dataset.json's order, prepare_all): its contact's
+    # heat is where this run's starts (thermal_drift)
+    prev: FitRun | None = field(default=None, repr=False, compare=False)
 
 
 @cache
@@ -104,7 +107,10 @@ def prepare_all(runs: list[Run]) -> list[FitRun]:
         (r.waveform.amplitude_v if r.waveform else float(np.ptp(r.drive_v)) for r in runs),
         default=0.0,
     )
-    return [prepare(r, stroke_v) for r in runs]
+    out = [prepare(r, stroke_v) for r in runs]
+    for before, run in zip(out, out[1:]):
+        run.prev = before
+    return out
 
 
 def prepare(run: Run, stroke_v: float = 0.0) -> FitRun:
@@ -187,7 +193,22 @@ def sim_step_s(run: FitRun, max_dt_s: float = MAX_DT_S) -> tuple[float, int]:
 
 def predict(run: FitRun, model: Model, max_dt_s: float = MAX_DT_S) -> np.ndarray:
     """What the sensor would have reported at the run's fit sample times under this model. The
-    slider's start is a nuisance offset per run, placed by least squares over the whole run."""
+    slider's start is a nuisance offset per run, placed by least squares over the whole run.
+    With thermal_drift, the runs recorded before it are simulated first (predict_all)."""
+    if carries_heat(model) and run.prev is not None:
+        return _predict_chain([run], model, False, max_dt_s)[0]
+    return _predict_heat(run, model, max_dt_s, 0.0)[0]
+
+
+def carries_heat(model: Model) -> bool:
+    """Does a run's prediction depend on the runs before it (the heat of thermal_drift)?"""
+    return model.effects.thermal_coeff_per_j != 0.0
+
+
+def _predict_heat(
+    run: FitRun, model: Model, max_dt_s: float, heat0_j: float
+) -> tuple[np.ndarray, float]:
+    """predict() from a contact holding heat0_j, and the heat the run leaves."""
     dt, dec = sim_step_s(run, max_dt_s)
     params = major_loop_gain(model.params, model.effects, run.stroke_v)
     x0 = slider_start_m(run, model.effects)
@@ -203,6 +224,7 @@ def predict(run: FitRun, model: Model, max_dt_s: float = MAX_DT_S) -> np.ndarray
             decimation=dec,
             effects=model.effects,
             x0_m=x0,
+            heat0_j=heat0_j,
         )
     else:
         r = simulate(
@@ -215,11 +237,12 @@ def predict(run: FitRun, model: Model, max_dt_s: float = MAX_DT_S) -> np.ndarray
             drive_interval_s=run.drive_dt_s,
             effects=model.effects,
             x0_m=x0,
+            heat0_j=heat0_j,
         )
     x = r.x_meas_m
     if len(x) < n + 1:  # rounding of the duration: hold the last value
         x = np.concatenate([x, np.full(n + 1 - len(x), x[-1])])
-    return placed(run, x[: n + 1])
+    return placed(run, x[: n + 1]), r.heat_end_j
 
 
 def placed(run: FitRun, x: np.ndarray) -> np.ndarray:
@@ -251,11 +274,49 @@ def _predict_or_far(run: FitRun, model: Model, max_dt_s: float = MAX_DT_S) -> np
         return np.full(len(run.x_m), 1.0)
 
 
+def _predict_chain(
+    runs: list[FitRun], model: Model, far_on_error: bool, max_dt_s: float
+) -> list[np.ndarray]:
+    """predict() on runs whose contact carries heat from run to run: every run from the first
+    recorded up to the last one asked for, one after another, each starting with the heat the
+    one before left (the recorded hold at 0 V included; no rest between records is assumed).
+    Sequential, so one core: only models with thermal_drift pay it."""
+    wanted = {id(r) for r in runs}
+    last = max(runs, key=_order)
+    chain = [last]
+    while chain[-1].prev is not None:
+        chain.append(chain[-1].prev)
+    out: dict[int, np.ndarray] = {}
+    heat = 0.0
+    for r in reversed(chain):
+        try:
+            x, heat = _predict_heat(r, model, max_dt_s, heat)
+        except ValueError:
+            if not far_on_error:
+                raise
+            x, heat = np.full(len(r.x_m), 1.0), 0.0
+        if id(r) in wanted:
+            out[id(r)] = x
+    # a run not recorded before the last one asked for (another dataset's): from a cold contact
+    return [out[id(r)] if id(r) in out else _predict_heat(r, model, max_dt_s, 0.0)[0] for r in runs]
+
+
+def _order(run: FitRun) -> int:
+    """How many runs were recorded before this one."""
+    n, r = 0, run
+    while r.prev is not None:
+        n, r = n + 1, r.prev
+    return n
+
+
 def predict_all(
     runs: list[FitRun], model: Model, far_on_error: bool = False, max_dt_s: float = MAX_DT_S
 ) -> list[np.ndarray]:
     """predict() on every run, the runs spread over the simulation threads (longest first).
-    far_on_error: a model the C library rejects gives a position of 1 m instead of an error."""
+    far_on_error: a model the C library rejects gives a position of 1 m instead of an error.
+    With thermal_drift, the runs in their recorded order, each from the heat the last left."""
+    if runs and carries_heat(model):
+        return _predict_chain(runs, model, far_on_error, max_dt_s)
     fn = _predict_or_far if far_on_error else predict
     if len(runs) < 2:
         return [fn(r, model, max_dt_s) for r in runs]

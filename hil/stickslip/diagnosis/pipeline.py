@@ -171,6 +171,8 @@ class Diagnosis:
     screened: list[Screened] = field(default_factory=list)  # causes on the base, to first order
     sensor_noise_m: float = 0.0  # per recorded sample (noise_m: on the filtered fit samples)
     residual: dict = field(default_factory=dict)
+    # False: the calibrated base was already within 3 x the noise, and no cause was fitted
+    causes_sought: bool = True
     timing_s: dict[str, float] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)  # the dataset's cross-checks' suspicions
     stroke_v: float = 0.0  # the dataset's largest drive amplitude (the hysteresis gain convention)
@@ -595,8 +597,18 @@ def diagnose(
         timing["laws_s"] = time.perf_counter() - t0
 
         t0 = time.perf_counter()
-        say(f"fitting {len(CAUSES)} candidate causes on the calibrated {base.law} model")
-        singles = sorted(s.extend(base, list(CAUSES)), key=lambda c: c.score)
+        sought = not _explained_enough(base, sensor_noise_m)
+        if sought:
+            say(f"fitting {len(CAUSES)} candidate causes on the calibrated {base.law} model")
+            singles = sorted(s.extend(base, list(CAUSES)), key=lambda c: c.score)
+        else:
+            # within 3 x the noise no cause is sought (a further one is not sought either, in
+            # _select): the rest is the noise, the C model's own numerical error and what a
+            # form of the law none of ours has leaves, and a flexible term takes a part of any
+            # of them. The screen's first-order figures go to the report, not confirmed.
+            say(f"the calibrated {base.law} model is within 3 x the noise: no cause is sought")
+            s.screened[id(base)] = s.screen(base, list(CAUSES))
+            singles = []
         timing["candidates_s"] = time.perf_counter() - t0
 
         t0 = time.perf_counter()
@@ -643,6 +655,7 @@ def diagnose(
         screened=s.screened.get(id(base), []),
         sensor_noise_m=sensor_noise_m,
         residual=residual_summary(runs, chosen.fit.model, noise_m),
+        causes_sought=sought,
         timing_s=timing,
         warnings=ds.warnings,
         stroke_v=max((r.stroke_v for r in runs), default=0.0),

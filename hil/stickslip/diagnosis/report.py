@@ -226,6 +226,15 @@ def _markdown(d: Diagnosis, j: dict) -> str:
         lines += ["**Warnings about the data:**", ""] + [f"- {w}" for w in d.warnings] + [""]
     causes = j["causes"]
     lines += [_verdict(causes, d, d.chosen.law), ""]
+    if not d.causes_sought:
+        lines += [
+            f"The calibrated {d.base.law} model is within 3 x the sensor noise "
+            f"({_nm(d.base.val.rmse_m)} against {_nm(noise)}), so no cause was fitted: what is "
+            "left is the noise, the C model's own numerical error (about 3 nm RMS at its 1 us "
+            "step with 15 us edges) and any difference in the friction law's form, and a flexible "
+            "term would take a part of each. The candidates below are first-order figures.",
+            "",
+        ]
     lines += [
         "| model | validation RMSE | RMSE / noise | step error |",
         "|---|---|---|---|",
