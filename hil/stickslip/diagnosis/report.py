@@ -14,7 +14,7 @@ import numpy as np  # noqa: E402
 
 from .. import dataset as D  # noqa: E402
 from .catalog import CAUSES, FRICTION_LAW, FRICTION_LAW_TEXT  # noqa: E402
-from .fit import FitRun, Model, cycle_steps, predict, prepare_all  # noqa: E402
+from .fit import FitRun, Model, cycle_steps, predict_all, prepare_all  # noqa: E402
 from .guards import CV_MAX_HARM, CV_MIN_DROP, FINAL_SHARE, FWD_SHARE  # noqa: E402
 from .pipeline import (  # noqa: E402
     MIN_BIC_DROP,
@@ -33,11 +33,10 @@ def _signatures(runs: list[FitRun], model: Model) -> dict[str, np.ndarray]:
     would otherwise drown the rest."""
     rows: dict[str, list] = {k: [] for k in ("rel", "dir", "freq", "amp", "pos", "cycle", "tfrac")}
     phase, pres = [], []
-    for run in runs:
+    for run, x in zip(runs, predict_all(runs, model)):  # all at once: a heat chain runs once
         if run.waveform is None:
             continue
         w = run.waveform
-        x = predict(run, model)
         s_meas, s_sim = cycle_steps(run, run.x_m), cycle_steps(run, x)
         k = np.arange(w.cycles)
         starts = np.interp(k * w.period_s, run.t_s - run.t_s[0], run.x_m)
@@ -103,6 +102,10 @@ def write_report(d: Diagnosis, out_dir: str | Path) -> Path:
         "baseline": d.baseline.fit.model,
         "extended": d.chosen.fit.model,
     }
+    # every run under each model, at once (a thermal model predicts the runs one after another)
+    pred = {
+        name: dict(zip([r.id for r in runs], predict_all(runs, m))) for name, m in models.items()
+    }
 
     # 1. measured against simulated position on the validation runs
     n = len(val)
@@ -113,7 +116,7 @@ def write_report(d: Diagnosis, out_dir: str | Path) -> Path:
         t = 1e3 * (run.t_s - run.t_s[0])
         ax.plot(t, 1e6 * run.x_m, color="0.6", lw=2.5, label="measured")
         for name, style in (("nominal", ":"), ("baseline", "--"), ("extended", "-")):
-            ax.plot(t, 1e6 * predict(run, models[name]), style, lw=1, label=name)
+            ax.plot(t, 1e6 * pred[name][run.id], style, lw=1, label=name)
         ax.set_title(run.id)
         ax.set_xlabel("t (ms)")
         ax.set_ylabel("slider (um)")
@@ -131,7 +134,7 @@ def write_report(d: Diagnosis, out_dir: str | Path) -> Path:
         k = off + np.arange(len(sm))
         ax.plot(k, 1e6 * sm, "k.", ms=4, label="measured" if off == 0 else None)
         for name, style in (("baseline", "C1-"), ("extended", "C2-")):
-            ss = cycle_steps(run, predict(run, models[name]))
+            ss = cycle_steps(run, pred[name][run.id])
             ax.plot(k, 1e6 * ss, style, lw=1, label=name if off == 0 else None)
         ticks.append((off + len(sm) / 2, run.id + (" (val)" if run.id in d.val_ids else "")))
         off += len(sm) + 3
