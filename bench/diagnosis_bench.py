@@ -173,7 +173,12 @@ def main() -> int:
                 if ok:
                     hits += 1
                 else:
-                    misses.append((seed, j["causes"], j["unexplained"]))
+                    # with how far the best calibrated law stayed from the noise: an effect it
+                    # leaves within 3 x is not sought (docs/diagnosis.md, step 9)
+                    law_x = min(v["validation_rmse_m"] for v in j["friction_laws"].values())
+                    misses.append(
+                        (seed, j["causes"], j["unexplained"], round(law_x / j["sensor_noise_m"], 1))
+                    )
             rows.append((name, hits, a.seeds, misses))
             print(
                 f"{name}: {hits}/{a.seeds} (median {statistics.median(secs):.0f} s)"
