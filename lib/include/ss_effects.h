@@ -62,8 +62,8 @@ float ss_effects_drive_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_
 float ss_effects_friction_scale_f32(const ss_effects_config_f32_t *cfg, const ss_effects_state_f32_t *st,
                                     float x_slider_m);
 
-/* Store the heat a step of dt_s dissipated (energy_j; a negative balance counts as 0) and lose
- * q / tau of it. */
+/* Add the work friction did over a step of dt_s (energy_j, signed: elastic energy given back
+ * counts negative) to the stored heat and lose q / tau of it; q never falls below 0. */
 void ss_effects_heat_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f32_t *st, float energy_j,
                          float dt_s);
 

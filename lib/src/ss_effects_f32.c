@@ -125,10 +125,10 @@ void ss_effects_heat_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f3
     if (cfg->thermal_coeff_per_j == 0.0f) {
         return;
     }
-    /* dissipation is never negative; a negative balance is the elastic model's approximation */
     float e;
     const float loss = st->heat_j * -ss_expm1_neg_f32(dt_s / cfg->thermal_tau_s, &e); /* as in creep */
-    st->heat_j += ((energy_j > 0.0f) ? energy_j : 0.0f) - loss;
+    const float q = st->heat_j + energy_j - loss;
+    st->heat_j = (q > 0.0f) ? q : 0.0f; /* elastic energy given back from a cold contact */
 }
 
 float ss_effects_sensor_f32(const ss_effects_config_f32_t *cfg, float x_slider_m)
