@@ -356,10 +356,9 @@ def simulate(
     drive_interval_s, linearly interpolated), with the C model; effects switch on optional
     physics, x0_m is where the slider starts, heat0_j the frictional heat the contact holds at the
     start (thermal_drift: what the run before left; SimResult.heat_end_j is what this one leaves).
-    variant "q" runs the fixed-point core (sawtooth
-    drive, slider starting at 0; of the effects, the load, the slew limit, the sensor scale, the
-    asymmetric friction, the hysteresis and the base:
-    the converter refuses the others by name)."""
+    variant "q" runs the fixed-point core (sawtooth drive, slider starting at 0; of the effects,
+    the load, the slew limit, the sensor scale, the asymmetric friction, the hysteresis and the
+    base: the converter refuses the others by name)."""
     if variant not in VARIANTS:
         raise ValueError(f"variant must be one of {VARIANTS}, got {variant!r}")
     params = params or ActuatorParams.table1()
