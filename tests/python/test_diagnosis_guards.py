@@ -19,6 +19,7 @@ from stickslip.diagnosis.guards import (
     families,
     fold_rss,
     judge_cv,
+    position_floor_problem,
     range_problems,
     share_removed,
 )
@@ -76,6 +77,16 @@ def test_range_guard_refuses_a_sensor_scale_error_no_sensor_has():
         Effects(slew_v_per_s=1e4), ("amplifier_slew_limit",), at_bound=("slew_v_per_s",)
     )
     assert "bound" in range_problems(pinned, ("amplifier_slew_limit",))[0]
+
+
+def test_a_position_only_cause_must_move_the_slider_more_than_a_sensor_misreads():
+    # the independent generator's cubic sensor error over 0.72 mm was taken by a friction
+    # gradient that moved the positions by 66 nm; its true gradients move them by 3.7-5.3 um
+    bad = position_floor_problem("position_dependent_friction", 66e-9, 719e-6)
+    assert bad and "66 nm" in bad and "0.009 %" in bad and "360 nm" in bad
+    assert position_floor_problem("position_dependent_friction", 3.7e-6, 712e-6) is None
+    # the floor scales with the travel: the same 66 nm is a finding over 0.1 mm
+    assert position_floor_problem("position_dependent_friction", 66e-9, 100e-6) is None
 
 
 def test_share_of_the_error_above_the_noise():

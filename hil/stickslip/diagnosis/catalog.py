@@ -180,6 +180,23 @@ CAUSE_PARAMS: dict[str, tuple[Param, ...]] = {
     "sensor_scale_error": (Param("sensor_scale_error", "lin", 0.01, -0.4, 0.4, phys=(-0.1, 0.1)),),
 }
 
+# Causes whose effect depends on the slider's position alone, like a sensor's own reading error
+# along its range: named only when they move the positions by more than SENSOR_LINEARITY of the
+# travel measured (capacitive gauges are linear to 0.01-0.05 % of their range; an
+# interferometer's mirror flat to lambda/10 reads 63 nm off over its length). A cubic sensor
+# error of 40-100 nm over 0.72 mm (independent generator) was taken by a friction gradient of
+# 7.4 /m that moved them by 66 nm (0.009 %); the generator's true gradients, 400-1200 /m, by
+# 3.7-5.3 um (0.5-0.7 %).
+POSITION_ONLY: frozenset[str] = frozenset({"position_dependent_friction"})
+SENSOR_LINEARITY = 5e-4
+
+# Causes fitted from the nominal base parameters when added to a calibrated law: the calibration
+# mimics what they do with the base, far outside a first-order step. A base resonance the model
+# lacks is taken up by the piezo damping and the contact stiffness (independent generator, base
+# at 4.6 kHz, seed 100: damping 42 kg/s against 6.2 nominal, sigma0 halved); the base fitted on
+# top of that stopped at 261 nm, from nominal at 6 nm from any of the screen's frequencies.
+FIT_FROM_NOMINAL: frozenset[str] = frozenset({"base_compliance"})
+
 # Starting values (lin params start at zero = off, so a fit starts from the baseline).
 CAUSE_START: dict[str, dict[str, float]] = {
     "piezo_hysteresis": {"hysteresis_alpha": 0.05, "hysteresis_width_m": 1e-6},

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model import ActuatorParams
-from .catalog import CAUSE_PARAMS
+from .catalog import CAUSE_PARAMS, SENSOR_LINEARITY
 from .fit import (
     H_THETA,
     MAX_POINTS_PER_RUN,
@@ -191,6 +191,20 @@ def range_problems(f: FitResult, causes: tuple[str, ...]) -> list[str]:
                     f"[{p.phys[0]:.4g}, {p.phys[1]:.4g}]"
                 )
     return out
+
+
+def position_floor_problem(cause: str, moved_m: float, travel_m: float) -> str | None:
+    """A position-only cause that moves the positions by no more than a sensor's own linearity
+    error over the travel (catalog.SENSOR_LINEARITY) cannot be told from that error."""
+    floor = SENSOR_LINEARITY * travel_m
+    if moved_m > floor:
+        return None
+    return (
+        f"{cause} moves the positions by at most {moved_m * 1e9:.0f} nm, "
+        f"{100 * moved_m / max(travel_m, 1e-300):.3f} % of the {travel_m * 1e6:.0f} um travelled: "
+        f"a sensor's own reading error along its range is as large "
+        f"({100 * SENSOR_LINEARITY:.2f} % of it, {floor * 1e9:.0f} nm)"
+    )
 
 
 def share_removed(mse_without: float, mse_with: float) -> float:
