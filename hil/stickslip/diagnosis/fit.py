@@ -545,7 +545,9 @@ def fit(
         starts = []
         axes = [(i, s.grid) for i, s in enumerate(specs) if s.grid and grid]
         combos = list(itertools.product(*(g for _, g in axes))) if axes else [()]
-        for b in {theta0_arr[:nb].tobytes(): theta0_arr[:nb], b"nominal": np.zeros(nb)}.values():
+        # (one set when start is at nominal: theta is 0 there)
+        bases = {theta0_arr[:nb].tobytes(): theta0_arr[:nb], np.zeros(nb).tobytes(): np.zeros(nb)}
+        for b in bases.values():
             for combo in combos:
                 th = theta0_arr.copy()
                 th[:nb] = np.clip(b, lo[:nb] + 1e-9, hi[:nb] - 1e-9)

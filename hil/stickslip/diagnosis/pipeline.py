@@ -644,7 +644,10 @@ def diagnose(
             # _select): the rest is the noise, the C model's own numerical error and what a
             # form of the law none of ours has leaves, and a flexible term takes a part of any
             # of them. The screen's first-order figures go to the report, not confirmed.
-            say(f"the calibrated {base.law} model is within 3 x the noise: no cause is sought")
+            say(
+                f"the calibrated {base.law} model is within {UNEXPLAINED_RMSE_OVER_NOISE:g} x the "
+                "noise: no cause is sought"
+            )
             s.screened[id(base)] = s.screen(base, list(CAUSES))
             singles = []
         timing["candidates_s"] = time.perf_counter() - t0

@@ -231,7 +231,8 @@ def _markdown(d: Diagnosis, j: dict) -> str:
     lines += [_verdict(causes, d, d.chosen.law), ""]
     if not d.causes_sought:
         lines += [
-            f"The calibrated {d.base.law} model is within 3 x the sensor noise "
+            f"The calibrated {d.base.law} model is within {UNEXPLAINED_RMSE_OVER_NOISE:g} x the "
+            "sensor noise "
             f"({_nm(d.base.val.rmse_m)} against {_nm(noise)}), so no cause was fitted: what is "
             "left is the noise, the C model's own numerical error (about 3 nm RMS at its 1 us "
             "step with 15 us edges) and any difference in the friction law's form, and a flexible "
