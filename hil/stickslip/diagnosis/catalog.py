@@ -194,7 +194,7 @@ SENSOR_LINEARITY = 5e-4
 # mimics what they do with the base, far outside a first-order step. A base resonance the model
 # lacks is taken up by the piezo damping and the contact stiffness (independent generator, base
 # at 4.6 kHz, seed 100: damping 42 kg/s against 6.2 nominal, sigma0 halved); the base fitted on
-# top of that stopped at 261 nm, from nominal at 6 nm from any of the screen's frequencies.
+# top of that stopped at 261 nm, from nominal at 5.7-6.7 nm from three of its grid points.
 FIT_FROM_NOMINAL: frozenset[str] = frozenset({"base_compliance"})
 
 # Starting values (lin params start at zero = off, so a fit starts from the baseline).
