@@ -154,6 +154,9 @@ class Verdict:
     """The guards' findings on one cause (or friction law) added to a model."""
 
     in_range: bool = True
+    # causes whose fitted values say they are not there: outside their range, at a bound, or
+    # under the position floor
+    absent: tuple[str, ...] = ()
     share: float = 0.0  # of the excess validation error removed
     folds: list[FoldResult] = field(default_factory=list)
     reasons: list[str] = field(default_factory=list)
