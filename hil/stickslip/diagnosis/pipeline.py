@@ -533,11 +533,12 @@ class _Session:
         """Range, share and cross-validation of what cand adds to parent."""
         v = Verdict()
         # every cause of the candidate: one kept on the way in must still lie in its range
-        absent = []
+        absent: list[str] = []
         for c in cand.causes:
             problems = range_problems(cand.fit, (c,)) + self.position_floor(cand, c)
             v.reasons.extend(problems)
-            absent += [c] if problems else []
+            if problems:
+                absent.append(c)
         v.absent, v.in_range = tuple(absent), not v.reasons
         v.share = share_removed(parent.mse_over_noise, cand.mse_over_noise)
         if v.share < FWD_SHARE:
