@@ -576,13 +576,12 @@ class _Session:
         creep at its bound, a gradient under the floor), and each pair fails for the other cause.
         None when that does not apply, or when the same causes were refitted so already."""
         v, gp = cand.verdict, parent.parent
-        new = [c for c in cand.causes if c not in parent.causes]
         if (
             v is None
             or gp is None
             or not v.absent
             or v.share < FWD_SHARE
-            or any(c in v.absent for c in new)
+            # each absent cause came from parent, not from further up (so none is cand's new one)
             or any(c not in parent.causes or c in gp.causes for c in v.absent)
         ):
             return None

@@ -1,0 +1,106 @@
+"""The pipeline's refit of a pair without the cause it took from its parent (_Session.
+without_absent): when it applies, what it fits, and that it fits each set once."""
+
+from __future__ import annotations
+
+from concurrent.futures import Future
+
+from stickslip.diagnosis.fit import Evaluation, FitResult, Free, Model
+from stickslip.diagnosis.guards import FWD_SHARE, Verdict
+from stickslip.diagnosis.pipeline import Candidate, _Session
+from stickslip.model import ActuatorParams, Effects
+
+NOMINAL = ActuatorParams.table1()
+EFFECTS = Effects(
+    hysteresis_alpha=0.05,
+    hysteresis_width_m=1e-6,
+    creep_ratio=0.02,
+    creep_tau_s=0.01,
+    slew_v_per_s=2e6,
+)
+
+
+class _Recorder:
+    """An executor that runs nothing: it records each fit asked for and returns its start."""
+
+    def __init__(self):
+        self.fits: list[tuple[Model, Free]] = []
+
+    def submit(self, fn, train, val, nominal, start, free, *rest):
+        self.fits.append((start, free))
+        fu: Future = Future()
+        fu.set_result((FitResult(free, start, start.values(), 0.0, 0), Evaluation(0, 0, 1, 1)))
+        return fu
+
+
+def _cand(causes, parent=None, verdict=None) -> Candidate:
+    m = Model(NOMINAL, EFFECTS, causes=causes)
+    f = FitResult(Free((), causes), m, m.values(), 0.0, 0)
+    return Candidate(f, Evaluation(0, 0, 1, 1), 0.0, parent, verdict)
+
+
+def _session() -> tuple[_Session, _Recorder]:
+    ex = _Recorder()
+    s = _Session(NOMINAL, [], [], [], 2e-9, ex, lambda _: None)
+    s.held["ls"], s.free_base["ls"] = ("sigma2",), ("mu_s", "sigma0")
+    return s, ex
+
+
+def _chain(absent, share=FWD_SHARE):
+    """base -> hysteresis -> hysteresis + slew, the pair failing on `absent`."""
+    base = _cand(())
+    single = _cand(("piezo_hysteresis",), parent=base)
+    pair = _cand(
+        ("piezo_hysteresis", "amplifier_slew_limit"),
+        parent=single,
+        verdict=Verdict(absent=absent, share=share, reasons=["x"]),
+    )
+    return base, single, pair
+
+
+def test_a_pair_failing_only_on_its_parents_cause_is_refitted_without_it_on_the_grandparent():
+    s, ex = _session()
+    base, single, pair = _chain(("piezo_hysteresis",))
+    alone = s.without_absent(pair, single)
+    assert alone is not None and alone.parent is base
+    ((start, free),) = ex.fits
+    # the new cause alone, from the pair's point, the law's calibrated parameters free again
+    assert start.causes == ("amplifier_slew_limit",) and free.causes == ("amplifier_slew_limit",)
+    assert start.effects.hysteresis_alpha == 0.0 and start.effects.slew_v_per_s == 2e6
+    assert free.base == ("mu_s", "sigma0")
+    assert s.without_absent(pair, single) is None and len(ex.fits) == 1  # once per set
+
+
+def test_no_refit_when_the_new_cause_itself_is_absent_or_the_pair_removes_too_little():
+    for absent, share in (
+        (("amplifier_slew_limit",), 0.9),  # the new cause is the one not there
+        (("piezo_hysteresis", "amplifier_slew_limit"), 0.9),
+        ((), 0.9),  # failed on something else (folds, share): not this repair's business
+        (("piezo_hysteresis",), FWD_SHARE / 2),  # removes too little to be worth a refit
+    ):
+        s, ex = _session()
+        _, single, pair = _chain(absent, share)
+        assert s.without_absent(pair, single) is None, (absent, share)
+        assert ex.fits == []
+
+
+def test_no_refit_for_a_cause_the_grandparent_already_carries_or_without_a_grandparent():
+    s, ex = _session()
+    single = _cand(("piezo_hysteresis",))  # parent of the pair, no parent of its own
+    pair = _cand(
+        ("piezo_hysteresis", "amplifier_slew_limit"),
+        parent=single,
+        verdict=Verdict(absent=("piezo_hysteresis",), share=0.9, reasons=["x"]),
+    )
+    assert s.without_absent(pair, single) is None
+    # a triple whose absent cause came from two generations up: dropping it is not this refit
+    base = _cand(())
+    one = _cand(("piezo_creep",), parent=base)
+    two = _cand(("piezo_creep", "piezo_hysteresis"), parent=one)
+    three = _cand(
+        ("piezo_creep", "piezo_hysteresis", "amplifier_slew_limit"),
+        parent=two,
+        verdict=Verdict(absent=("piezo_creep",), share=0.9, reasons=["x"]),
+    )
+    assert s.without_absent(three, two) is None
+    assert ex.fits == []
