@@ -170,6 +170,12 @@ def main() -> int:
                     if a.generator == "own"
                     else hit_independent(name, causes, kw, j)
                 )
+                # one line a diagnosis: the time and answer of each (the "under 60 s" count)
+                print(
+                    f"  {name} seed {seed}: {secs[-1]:.1f} s, {j['causes']}, unexplained "
+                    f"{j['unexplained']}, {'hit' if ok else 'miss'}",
+                    flush=True,
+                )
                 if ok:
                     hits += 1
                 else:

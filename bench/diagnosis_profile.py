@@ -60,6 +60,15 @@ def main() -> int:
         return original(*args, **kwargs)
 
     F.predict_all = counted  # residuals() and evaluate() look it up at call time
+    screens: list[tuple[str, list]] = []
+    screen = PL._Session.screen
+
+    def screen_logged(self, parent, causes):
+        out = screen(self, parent, causes)
+        screens.append(("+".join(parent.causes) or parent.law, parent.mse_over_noise, out))
+        return out
+
+    PL._Session.screen = screen_logged
     t0 = time.perf_counter()
 
     def say(msg: str) -> None:
@@ -76,9 +85,20 @@ def main() -> int:
         for c in rnd:
             v = c.verdict
             verdict = "" if v is None else ("confirmed" if v.confirmed else "; ".join(v.reasons))
+            pm = c.parent.mse_over_noise if c.parent else float("nan")
+            share = 100 * (pm - c.mse_over_noise) / max(pm - 1, 1e-9)
             print(
-                f"round {i}: {'+'.join(c.causes)} ({c.law}) {c.val.rmse_m * 1e9:.2f} nm  {verdict}"
+                f"round {i}: {'+'.join(c.causes)} ({c.law}) {c.val.rmse_m * 1e9:.2f} nm"
+                f" ({share:.0f} % of the parent's excess)  {verdict}"
             )
+    # what each screen predicted: validation RMSE (noise units) and the share of the parent's
+    # excess error (its first-order refit) that the cause would remove
+    for parent, mse_parent, out in screens:
+        row = []
+        for x in out[:6]:
+            p_, c_ = x.rss_parent / x.n_val, x.rss_val / x.n_val
+            row.append(f"{x.cause} {100 * (p_ - c_) / max(p_ - 1, 1e-9):.0f}%")
+        print(f"screen on {parent} (mse {mse_parent:.3g}): " + ", ".join(row))
     print(
         f"baseline {d.baseline.val.rmse_m * 1e9:.2f} nm, chosen {d.chosen.val.rmse_m * 1e9:.2f} nm,"
         f" sensor noise {d.sensor_noise_m * 1e9:.2f} nm"
