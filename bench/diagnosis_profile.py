@@ -69,6 +69,18 @@ def main() -> int:
         return out
 
     PL._Session.screen = screen_logged
+    # how each least-squares solve ended: scipy's status 0 is its evaluation budget, 1-4 a
+    # tolerance (per stage: the first's tolerance is 1e-3, the second's 1e-5)
+    ends: collections.Counter[str] = collections.Counter()
+    solve = F.least_squares
+
+    def solve_counted(fun, x0, **kw):
+        r = solve(fun, x0, **kw)
+        stage_ = "first" if kw.get("xtol", 0.0) >= 1e-3 else "second"
+        ends[f"{stage_} stage, {'budget' if r.status == 0 else 'converged'}"] += 1
+        return r
+
+    F.least_squares = solve_counted  # fit.fit looks it up at call time
     t0 = time.perf_counter()
 
     def say(msg: str) -> None:
@@ -79,6 +91,7 @@ def main() -> int:
     print(f"causes {d.causes}, unexplained {d.unexplained}, {time.perf_counter() - t0:.1f} s")
     print("phases (s):", {k: round(v, 1) for k, v in d.timing_s.items()})
     print(f"simulations: {sum(calls.values())}", dict(calls))
+    print("least_squares ends:", dict(sorted(ends.items())))
     laws = ", ".join(f"{n} {c.val.rmse_m * 1e9:.2f} nm" for n, c in d.laws.items())
     print(f"laws calibrated: {laws}; causes added to {d.base.law}")
     for i, rnd in enumerate(d.rounds):
