@@ -177,7 +177,22 @@ CAUSE_PARAMS: dict[str, tuple[Param, ...]] = {
         # second causes to absorb it (no grid: the probes and the grid starts take 0.05)
         Param("base_damping_ratio", "log", 0.05, 0.005, 0.5, phys=(0.005, 0.3)),
     ),
-    "sensor_scale_error": (Param("sensor_scale_error", "lin", 0.01, -0.4, 0.4, phys=(-0.1, 0.1)),),
+    # probed at both signs and a few sizes: a calibration absorbs a scale error into its friction
+    # (steps 4 % short look like a stronger contact), and the linear screen on top of it saw 4 %
+    # of the error go where the full fit removed all of it (independent seed 100: -4.4 %, the
+    # calibrated LuGre law at 66 nm, the full fit 1.6 nm). The probes with the base at nominal see
+    # it, but only near its true size and sign.
+    "sensor_scale_error": (
+        Param(
+            "sensor_scale_error",
+            "lin",
+            0.01,
+            -0.4,
+            0.4,
+            grid=(-0.06, -0.04, -0.02, 0.02, 0.04, 0.06),
+            phys=(-0.1, 0.1),
+        ),
+    ),
 }
 
 # Causes whose effect depends on the slider's position alone, like a sensor's own reading error
