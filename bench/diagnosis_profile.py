@@ -22,6 +22,7 @@ import diagnosis_bench as B
 
 from stickslip.diagnosis import fit as F
 from stickslip.diagnosis import pipeline as PL
+from stickslip.diagnosis.guards import share_removed
 
 
 def dataset(case: str, seed: int, rate_hz: float, data: Path) -> Path:
@@ -98,19 +99,23 @@ def main() -> int:
         for c in rnd:
             v = c.verdict
             verdict = "" if v is None else ("confirmed" if v.confirmed else "; ".join(v.reasons))
-            pm = c.parent.mse_over_noise if c.parent else float("nan")
-            share = 100 * (pm - c.mse_over_noise) / max(pm - 1, 1e-9)
+            share = (
+                f" ({100 * share_removed(c.parent.mse_over_noise, c.mse_over_noise):.0f} % of the"
+                " parent's excess)"
+                if c.parent
+                else ""
+            )
             print(
-                f"round {i}: {'+'.join(c.causes)} ({c.law}) {c.val.rmse_m * 1e9:.2f} nm"
-                f" ({share:.0f} % of the parent's excess)  {verdict}"
+                f"round {i}: {'+'.join(c.causes)} ({c.law}) {c.val.rmse_m * 1e9:.2f} nm{share}"
+                f"  {verdict}"
             )
     # what each screen predicted: validation RMSE (noise units) and the share of the parent's
     # excess error (its first-order refit) that the cause would remove
     for parent, mse_parent, out in screens:
         row = []
         for x in out[:6]:
-            p_, c_ = x.rss_parent / x.n_val, x.rss_val / x.n_val
-            row.append(f"{x.cause} {100 * (p_ - c_) / max(p_ - 1, 1e-9):.0f}%")
+            predicted = share_removed(x.rss_parent / x.n_val, x.rss_val / x.n_val)
+            row.append(f"{x.cause} {100 * predicted:.0f}%")
         print(f"screen on {parent} (mse {mse_parent:.3g}): " + ", ".join(row))
     print(
         f"baseline {d.baseline.val.rmse_m * 1e9:.2f} nm, chosen {d.chosen.val.rmse_m * 1e9:.2f} nm,"
