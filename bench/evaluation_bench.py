@@ -28,7 +28,7 @@ def main() -> None:
         independent.generate(path, law="lugre", seed=1, sample_rate_hz=250e3)
         runs = F.prepare_all(D.load(path).runs)
     model = F.Model(ActuatorParams.table1(), law="lugre")
-    every = [max(1, len(r.x_m) // F.MAX_POINTS_PER_RUN) for r in runs]
+    every = F.strides(runs)
     F.residuals(runs, model, 2e-9, every)  # warm-up: the pool's threads, the library
     threads, serial = [], []
     for _ in range(a.repeat):

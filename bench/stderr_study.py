@@ -40,7 +40,7 @@ def main() -> int:
     _, noise, _ = noise_level(ds, runs)
     f, held = calibrate(train, ds.actuator, a.law, noise)
     print(f"{a.law} calibrated: {f.train_rms_m * 1e9:.1f} nm on the training runs, held {held}")
-    every = [max(1, len(r.x_m) // F.MAX_POINTS_PER_RUN) for r in train]
+    every = F.strides(train)
     theta = F.theta_of(f.model, f.specs)
     hi = np.array([s.bounds()[1] for s in f.specs])
     fun = F.residuals(train, f.model, noise, every, False, F.MAX_DT_S)  # chi-square at 1 us

@@ -333,6 +333,11 @@ class Free:
     causes: tuple[str, ...]
 
 
+def strides(runs: list[FitRun]) -> list[int]:
+    """Every how many samples a run's residual is taken: at most MAX_POINTS_PER_RUN a run."""
+    return [max(1, len(r.x_m) // MAX_POINTS_PER_RUN) for r in runs]
+
+
 def specs_for(nominal: ActuatorParams, free: Free) -> list[Param]:
     specs = []
     for name in free.base:
@@ -488,7 +493,7 @@ def fit(
     residual to get near, then the absolute position (what the validation measures)."""
     specs = specs_for(nominal, free)
     nb = len(free.base)
-    every = [max(1, len(r.x_m) // MAX_POINTS_PER_RUN) for r in runs]
+    every = strides(runs)
     theta0 = []
     for i, s in enumerate(specs):
         if i < nb:

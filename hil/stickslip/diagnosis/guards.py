@@ -22,7 +22,6 @@ from ..model import ActuatorParams
 from .catalog import CAUSE_PARAMS, SENSOR_LINEARITY
 from .fit import (
     H_THETA,
-    MAX_POINTS_PER_RUN,
     FitResult,
     FitRun,
     Free,
@@ -30,6 +29,7 @@ from .fit import (
     build,
     residuals,
     specs_for,
+    strides,
     theta_of,
 )
 
@@ -113,7 +113,7 @@ def linearize_column(
     theta = theta_of(model, specs)
     if i >= 0:
         theta[i] += _column_step(theta, specs, i)
-    every = [max(1, len(r.x_m) // MAX_POINTS_PER_RUN) for r in runs]
+    every = strides(runs)
     return residuals(runs, build(model, free, theta, specs), noise_m, every)
 
 
@@ -127,7 +127,7 @@ def assemble(
     jac = np.zeros((len(r0), len(specs)))
     for i, c in enumerate(cols[1:]):
         jac[:, i] = (c - r0) / _column_step(theta, specs, i)
-    every = [max(1, len(r.x_m) // MAX_POINTS_PER_RUN) for r in runs]
+    every = strides(runs)
     run_of_row = np.concatenate(
         [np.full(len(r.x_m[::k]), i) for i, (r, k) in enumerate(zip(runs, every))]
     )

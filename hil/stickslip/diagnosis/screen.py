@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .catalog import CAUSE_PARAMS, CAUSE_START
-from .fit import MAX_POINTS_PER_RUN, FitRun, Model, residuals
+from .fit import FitRun, Model, residuals, strides
 from .guards import LM_DAMPING, Linearization
 
 
@@ -47,11 +47,11 @@ def probe_residual(
     """Residual on every run (every k-th sample, over noise; per_cycle: measured from the start
     of each period) of the model with the cause added at the given values (none: as it is)."""
     if cause is None:
-        every = [max(1, len(r.x_m) // MAX_POINTS_PER_RUN) for r in runs]
+        every = strides(runs)
         return residuals(runs, model, noise_m, every, per_cycle)
     fx = replace(model.effects, **values)
     m = replace(model, effects=fx, causes=(*model.causes, cause))
-    every = [max(1, len(r.x_m) // MAX_POINTS_PER_RUN) for r in runs]
+    every = strides(runs)
     return residuals(runs, m, noise_m, every, per_cycle)
 
 
