@@ -14,13 +14,12 @@ import argparse
 import sys
 from pathlib import Path
 
-from diagnosis_profile import dataset
+from diagnosis_profile import fit_inputs
 
-from stickslip import dataset as D
 from stickslip.diagnosis import fit as F
 from stickslip.diagnosis.calibrate import calibrate
 from stickslip.diagnosis.catalog import CAUSES
-from stickslip.diagnosis.pipeline import FIT_NFEV, noise_level, split_runs
+from stickslip.diagnosis.pipeline import FIT_NFEV
 
 
 def main() -> int:
@@ -32,10 +31,7 @@ def main() -> int:
     ap.add_argument("--rate-hz", type=float, default=250e3)
     ap.add_argument("--data", type=Path, default=Path("out/diagnosis-profile"))
     a = ap.parse_args()
-    ds = D.load(dataset(a.case, a.seed, a.rate_hz, a.data))
-    runs = F.prepare_all(ds.runs)
-    train, val = split_runs(runs)
-    _, noise, _ = noise_level(ds, runs)
+    ds, _, train, val, noise = fit_inputs(a.case, a.seed, a.rate_hz, a.data)
     for law in a.laws:
         cal, _ = calibrate(train, ds.actuator, law, noise)
         start = F.Model(ds.actuator, law=law)

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import diagnosis_bench as B
 
+from stickslip import dataset as D
 from stickslip.diagnosis import fit as F
 from stickslip.diagnosis import pipeline as PL
 from stickslip.diagnosis.guards import share_removed
@@ -41,6 +42,16 @@ def dataset(case: str, seed: int, rate_hz: float, data: Path) -> Path:
             data, f"{case}_{seed}_{int(rate_hz)}_", causes, kw, seed, rate_hz
         ).rename(path)
     return path
+
+
+def fit_inputs(case: str, seed: int, rate_hz: float, data: Path):
+    """A case's dataset as the diagnosis fits it: (dataset, runs, training runs, validation runs,
+    noise in m), for the scripts that call the fits directly."""
+    ds = D.load(dataset(case, seed, rate_hz, data))
+    runs = F.prepare_all(ds.runs)
+    train, val = PL.split_runs(runs)
+    _, noise, _ = PL.noise_level(ds, runs)
+    return ds, runs, train, val, noise
 
 
 def main() -> int:

@@ -13,12 +13,10 @@ import sys
 from pathlib import Path
 
 import numpy as np
-from diagnosis_profile import dataset
+from diagnosis_profile import fit_inputs
 
-from stickslip import dataset as D
 from stickslip.diagnosis import fit as F
 from stickslip.diagnosis.calibrate import calibrate
-from stickslip.diagnosis.pipeline import noise_level, split_runs
 
 
 def relative_stderr(f: F.FitResult, jac: np.ndarray, fun: np.ndarray) -> dict[str, float]:
@@ -34,10 +32,7 @@ def main() -> int:
     ap.add_argument("--rate-hz", type=float, default=250e3)
     ap.add_argument("--data", type=Path, default=Path("out/diagnosis-profile"))
     a = ap.parse_args()
-    ds = D.load(dataset(a.case, a.seed, a.rate_hz, a.data))
-    runs = F.prepare_all(ds.runs)
-    train, _ = split_runs(runs)
-    _, noise, _ = noise_level(ds, runs)
+    ds, _, train, _, noise = fit_inputs(a.case, a.seed, a.rate_hz, a.data)
     f, held = calibrate(train, ds.actuator, a.law, noise)
     print(f"{a.law} calibrated: {f.train_rms_m * 1e9:.1f} nm on the training runs, held {held}")
     every = F.strides(train)
