@@ -31,7 +31,7 @@ def main() -> int:
     ap.add_argument("--rate-hz", type=float, default=250e3)
     ap.add_argument("--data", type=Path, default=Path("out/diagnosis-profile"))
     a = ap.parse_args()
-    ds, _, train, val, noise = fit_inputs(a.case, a.seed, a.rate_hz, a.data)
+    ds, train, val, noise = fit_inputs(a.case, a.seed, a.rate_hz, a.data)
     for law in a.laws:
         cal, _ = calibrate(train, ds.actuator, law, noise)
         start = F.Model(ds.actuator, law=law)

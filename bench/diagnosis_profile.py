@@ -45,13 +45,13 @@ def dataset(case: str, seed: int, rate_hz: float, data: Path) -> Path:
 
 
 def fit_inputs(case: str, seed: int, rate_hz: float, data: Path):
-    """A case's dataset as the diagnosis fits it: (dataset, runs, training runs, validation runs,
-    noise in m), for the scripts that call the fits directly."""
+    """A case's dataset as the diagnosis fits it: (dataset, training runs, validation runs, noise
+    in m), for the scripts that call the fits directly."""
     ds = D.load(dataset(case, seed, rate_hz, data))
     runs = F.prepare_all(ds.runs)
     train, val = PL.split_runs(runs)
     _, noise, _ = PL.noise_level(ds, runs)
-    return ds, runs, train, val, noise
+    return ds, train, val, noise
 
 
 def main() -> int:

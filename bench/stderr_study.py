@@ -32,7 +32,7 @@ def main() -> int:
     ap.add_argument("--rate-hz", type=float, default=250e3)
     ap.add_argument("--data", type=Path, default=Path("out/diagnosis-profile"))
     a = ap.parse_args()
-    ds, _, train, _, noise = fit_inputs(a.case, a.seed, a.rate_hz, a.data)
+    ds, train, _, noise = fit_inputs(a.case, a.seed, a.rate_hz, a.data)
     f, held = calibrate(train, ds.actuator, a.law, noise)
     print(f"{a.law} calibrated: {f.train_rms_m * 1e9:.1f} nm on the training runs, held {held}")
     every = F.strides(train)

@@ -46,13 +46,10 @@ def probe_residual(
 ) -> np.ndarray:
     """Residual on every run (every k-th sample, over noise; per_cycle: measured from the start
     of each period) of the model with the cause added at the given values (none: as it is)."""
-    if cause is None:
-        every = strides(runs)
-        return residuals(runs, model, noise_m, every, per_cycle)
-    fx = replace(model.effects, **values)
-    m = replace(model, effects=fx, causes=(*model.causes, cause))
-    every = strides(runs)
-    return residuals(runs, m, noise_m, every, per_cycle)
+    if cause is not None:
+        fx = replace(model.effects, **values)
+        model = replace(model, effects=fx, causes=(*model.causes, cause))
+    return residuals(runs, model, noise_m, strides(runs), per_cycle)
 
 
 @dataclass
