@@ -128,6 +128,22 @@ class ActuatorTrace(C.Structure):
 TRACE_COLUMNS = [f[0] for f in ActuatorTrace._fields_ if f[0] != "capacity"]
 
 
+class RunJob(C.Structure):
+    """ss_actuator_run_job_f32_t: one simulation of ss_actuator_run_many_f32."""
+
+    _fields_ = [
+        ("cfg", C.POINTER(ActuatorConfig)),
+        ("st", C.c_void_p),
+        ("wave", C.POINTER(WaveformConfig)),
+        ("wst", C.c_void_p),
+        ("n_steps", C.c_uint32),
+        ("decimation", C.c_uint32),
+        ("trace", C.POINTER(ActuatorTrace)),
+        ("rows", C.c_uint32),
+        ("status", C.c_int),
+    ]
+
+
 # --- the fixed-point (_q) family: integer configs, made from the float ones by the library's
 # host-side converter (ss_convert_q.h); formats in docs/fixed-point.md
 
@@ -237,6 +253,7 @@ _ABI = {
     ActuatorConfig: 1,
     WaveformConfig: 3,
     ActuatorTrace: 7,
+    RunJob: 23,
     EffectsConfig: 20,
     FrictionMu: 22,
     FrictionConfigQ: 8,
@@ -316,6 +333,7 @@ _proto(
     C.POINTER(ActuatorTrace),
     C.POINTER(C.c_uint32),
 )
+_proto("ss_actuator_run_many_f32", C.c_int, C.POINTER(RunJob), C.c_uint32)
 _proto("ss_waveform_init_f32", C.c_int, C.POINTER(WaveformConfig), C.c_float, _P)
 _proto("ss_waveform_value_f32", C.c_float, C.POINTER(WaveformConfig), _P)
 _proto("ss_waveform_fill_f32", C.c_int, C.POINTER(WaveformConfig), _P, _FP, C.c_uint32)
@@ -569,6 +587,43 @@ def drive_samples(wave: WaveformConfig, dt_s: float, n_steps: int) -> np.ndarray
     return out
 
 
+class _RunF32:
+    """A float run set up for the C core: its state at rest (slider at x0_m, stored heat heat0_j)
+    with the initial state recorded, and the trace its steps write from row 1 on."""
+
+    def __init__(
+        self,
+        cfg: ActuatorConfig,
+        wave: WaveformConfig,
+        n_steps: int,
+        decimation: int,
+        x0_m: float,
+        heat0_j: float,
+    ):
+        self.cfg, self.wave, self.n_steps, self.decimation = cfg, wave, n_steps, decimation
+        rows = n_steps // decimation
+        cols = {name: np.zeros(rows + 1, np.float32) for name in TRACE_COLUMNS if name != "step"}
+        cols["step"] = np.zeros(rows + 1, np.uint32)
+        self.cols = cols
+        self.st = new_actuator_state()
+        self.wst = new_waveform_state()
+        check(lib.ss_waveform_init_f32(C.byref(wave), cfg.dt_s, self.wst), "waveform")
+        v0 = lib.ss_waveform_value_f32(C.byref(wave), self.wst)
+        check(lib.ss_actuator_init_f32(C.byref(cfg), self.st, v0), "actuator parameters")
+        if x0_m != 0.0:
+            lib.ss_actuator_place_slider_f32(self.st, x0_m)
+        if heat0_j != 0.0:
+            lib.ss_actuator_set_heat_f32(self.st, heat0_j)
+        first = trace_for(cols, rows + 1)
+        lib.ss_actuator_record_f32(C.byref(cfg), self.st, C.byref(first), 0)
+        # the run writes from row 1 on: point a second trace one row in
+        self.trace = trace_for({k: v[1:] for k, v in cols.items()}, rows)
+
+    def result(self, status: int, rows: int) -> tuple[dict[str, np.ndarray], float]:
+        check(status, f"run stopped after {rows * self.decimation} steps")
+        return self.cols, float(lib.ss_actuator_heat_f32(self.st))
+
+
 def run_f32(
     cfg: ActuatorConfig,
     wave: WaveformConfig,
@@ -580,28 +635,51 @@ def run_f32(
     """The float core from rest (slider at x0_m, stored heat heat0_j) over n_steps; every
     decimation-th step recorded, the initial state first. Returns columns as TRACE_COLUMNS
     (float32, step uint32) and the stored heat at the end."""
-    rows = n_steps // decimation
-    cols = {name: np.zeros(rows + 1, np.float32) for name in TRACE_COLUMNS if name != "step"}
-    cols["step"] = np.zeros(rows + 1, np.uint32)
-    st = new_actuator_state()
-    wst = new_waveform_state()
-    check(lib.ss_waveform_init_f32(C.byref(wave), cfg.dt_s, wst), "waveform")
-    v0 = lib.ss_waveform_value_f32(C.byref(wave), wst)
-    check(lib.ss_actuator_init_f32(C.byref(cfg), st, v0), "actuator parameters")
-    if x0_m != 0.0:
-        lib.ss_actuator_place_slider_f32(st, x0_m)
-    if heat0_j != 0.0:
-        lib.ss_actuator_set_heat_f32(st, heat0_j)
-    first = trace_for(cols, rows + 1)
-    lib.ss_actuator_record_f32(C.byref(cfg), st, C.byref(first), 0)
-    # the run writes from row 1 on: point a second trace one row in
-    tr = trace_for({k: v[1:] for k, v in cols.items()}, rows)
+    r = _RunF32(cfg, wave, n_steps, decimation, x0_m, heat0_j)
     written = C.c_uint32(0)
     status = lib.ss_actuator_run_f32(
-        C.byref(cfg), st, C.byref(wave), wst, n_steps, decimation, C.byref(tr), C.byref(written)
+        C.byref(cfg),
+        r.st,
+        C.byref(wave),
+        r.wst,
+        n_steps,
+        decimation,
+        C.byref(r.trace),
+        C.byref(written),
     )
-    check(status, f"run stopped after {written.value * decimation} steps")
-    return cols, float(lib.ss_actuator_heat_f32(st))
+    return r.result(status, written.value)
+
+
+def run_f32_many(
+    runs: list[tuple[ActuatorConfig, WaveformConfig, int, int, float, float]],
+) -> list[tuple[dict[str, np.ndarray], float] | NativeError]:
+    """run_f32 on each (cfg, wave, n_steps, decimation, x0_m, heat0_j), with the same bits, as
+    one batch (ss_actuator_run_many_f32: two simulations interleaved step by step, 1.25-1.35 x
+    the throughput on one core). A run that fails gives its NativeError in its place; the others
+    still run. The configs (and a sampled wave's samples) must live until this returns."""
+    out: list = [None] * len(runs)
+    ready: list[tuple[int, _RunF32]] = []
+    for i, args in enumerate(runs):
+        try:
+            ready.append((i, _RunF32(*args)))
+        except NativeError as e:
+            out[i] = e
+    jobs = (RunJob * max(1, len(ready)))()
+    for j, (_, r) in zip(jobs, ready):
+        j.cfg, j.st, j.wave, j.wst = (
+            C.pointer(r.cfg),
+            C.cast(r.st, C.c_void_p),
+            C.pointer(r.wave),
+            C.cast(r.wst, C.c_void_p),
+        )
+        j.n_steps, j.decimation, j.trace = r.n_steps, r.decimation, C.pointer(r.trace)
+    lib.ss_actuator_run_many_f32(jobs, len(ready))
+    for j, (i, r) in zip(jobs, ready):
+        try:
+            out[i] = r.result(j.status, j.rows)
+        except NativeError as e:
+            out[i] = e
+    return out
 
 
 def run_q(

@@ -425,6 +425,51 @@ void ss_actuator_record_f32(const ss_actuator_config_f32_t *cfg, const ss_actuat
     }
 }
 
+/* A job in progress: steps left, and steps until its next recorded row. */
+typedef struct {
+    ss_actuator_run_job_f32_t *job;
+    uint32_t left;
+    uint32_t to_row;
+} lane_t;
+
+/* Check a job as ss_actuator_run_f32 checks its arguments and put it in the lane; 1 if it has
+ * steps to run. */
+static int lane_start(lane_t *lane, ss_actuator_run_job_f32_t *j)
+{
+    j->rows = 0u;
+    if (j->cfg == NULL || j->st == NULL || j->wave == NULL || j->wst == NULL) {
+        j->status = SS_ERR_NULL;
+        return 0;
+    }
+    if (j->decimation == 0u || (j->trace != NULL && j->trace->capacity < j->n_steps / j->decimation)) {
+        j->status = SS_ERR_RANGE;
+        return 0;
+    }
+    j->status = SS_OK;
+    lane->job = j;
+    lane->left = j->n_steps;
+    lane->to_row = j->decimation;
+    return j->n_steps > 0u;
+}
+
+/* One step of the lane's job, and its row when it is a decimation-th step; 1 while steps are left
+ * and it has not failed. */
+static inline int lane_step(lane_t *lane)
+{
+    ss_actuator_run_job_f32_t *j = lane->job;
+    j->status = wave_step(j->cfg, j->st, j->wave, j->wst);
+    if (j->status != SS_OK) {
+        return 0;
+    }
+    if (--lane->to_row == 0u) {
+        lane->to_row = j->decimation;
+        if (j->trace != NULL) {
+            ss_actuator_record_f32(j->cfg, j->st, j->trace, j->rows++);
+        }
+    }
+    return --lane->left != 0u;
+}
+
 ss_status_t ss_actuator_run_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
                                 const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
                                 uint32_t n_steps, uint32_t decimation, ss_actuator_trace_f32_t *trace,
@@ -433,21 +478,52 @@ ss_status_t ss_actuator_run_f32(const ss_actuator_config_f32_t *cfg, ss_actuator
     if (cfg == NULL || st == NULL || wave == NULL || wst == NULL || rows_out == NULL) {
         return SS_ERR_NULL;
     }
-    *rows_out = 0u;
-    if (decimation == 0u) {
-        return SS_ERR_RANGE;
-    }
-    uint32_t rows = 0u;
-    if (trace != NULL && trace->capacity < n_steps / decimation) {
-        return SS_ERR_RANGE;
-    }
-    ss_status_t status = SS_OK;
-    for (uint32_t i = 1u; i <= n_steps && status == SS_OK; ++i) {
-        status = wave_step(cfg, st, wave, wst);
-        if (status == SS_OK && trace != NULL && i % decimation == 0u) {
-            ss_actuator_record_f32(cfg, st, trace, rows++);
+    ss_actuator_run_job_f32_t job = {cfg, st, wave, wst, n_steps, decimation, trace, 0u, SS_OK};
+    lane_t lane;
+    if (lane_start(&lane, &job)) {
+        while (lane_step(&lane)) {
         }
     }
-    *rows_out = rows;
-    return status;
+    *rows_out = job.rows;
+    return job.status;
+}
+
+ss_status_t ss_actuator_run_many_f32(ss_actuator_run_job_f32_t *jobs, uint32_t n)
+{
+    if (jobs == NULL && n > 0u) {
+        return SS_ERR_NULL;
+    }
+    ss_status_t out = SS_OK;
+    lane_t lane[2];
+    int busy[2] = {0, 0};
+    uint32_t next = 0u;
+    for (;;) {
+        for (int k = 0; k < 2; ++k) {
+            while (!busy[k] && next < n) {
+                busy[k] = lane_start(&lane[k], &jobs[next]);
+                if (jobs[next++].status == SS_ERR_NULL) {
+                    out = SS_ERR_NULL;
+                }
+            }
+        }
+        if (busy[0] && busy[1]) {
+            /* both lanes stepped in turn until one ends; the other goes on with the next job */
+            int a = 1;
+            int b = 1;
+            while (a && b) {
+                a = lane_step(&lane[0]);
+                b = lane_step(&lane[1]);
+            }
+            busy[0] = a;
+            busy[1] = b;
+        } else if (busy[0] || busy[1]) {
+            /* no job left for the other lane: this one runs alone to its end */
+            lane_t *l = &lane[busy[0] ? 0 : 1];
+            while (lane_step(l)) {
+            }
+            return out;
+        } else {
+            return out;
+        }
+    }
 }

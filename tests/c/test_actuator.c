@@ -203,6 +203,87 @@ static void test_run_matches_manual_steps(void **unused)
     assert_int_equal(ss_actuator_step_f32(NULL, &a, 0.0f), SS_ERR_NULL);
 }
 
+/* A batch gives each simulation the bits ss_actuator_run_f32 gives it alone: five jobs (an odd
+ * count, so a lane runs alone at the end) of different lengths, laws, decimations and effects, one
+ * of which fails part way (a NaN in its sampled drive) and one of which has no state. */
+static void test_run_many_matches_run(void **unused)
+{
+    (void)unused;
+    enum { JOBS = 5, MAX_ROWS = 3000 };
+    static const uint32_t n_steps[JOBS] = {6000, 2500, 9000, 1200, 4000};
+    static const uint32_t dec[JOBS] = {3, 1, 7, 5, 2};
+    static float samples[64];
+    for (int i = 0; i < 64; ++i) {
+        samples[i] = 10.0f * (float)(i % 8);
+    }
+    ss_actuator_config_f32_t cfg[JOBS];
+    ss_waveform_config_f32_t w[JOBS];
+    ss_actuator_state_f32_t st[2][JOBS];
+    ss_waveform_state_f32_t ws[2][JOBS];
+    static uint32_t step[2][JOBS][MAX_ROWS];
+    static float x[2][JOBS][MAX_ROWS];
+    static float f[2][JOBS][MAX_ROWS];
+    ss_actuator_trace_f32_t tr[2][JOBS];
+    ss_actuator_run_job_f32_t jobs[JOBS];
+    for (int k = 0; k < JOBS; ++k) {
+        cfg[k] = ss_actuator_config_table1_f32();
+        cfg[k].friction_model = k % 3; /* LS, LuGre, GMS */
+        cfg[k].friction.sigma0_n_per_m *= 1.0f + 0.01f * (float)k;
+        w[k] = ss_waveform_sawtooth_f32(500.0f + 250.0f * (float)k, 100.0f, 0.0f, 0.95f, k % 2 ? -1 : 1, 20u);
+    }
+    cfg[2].effects.load_n = 0.2f;
+    cfg[4].effects.base_mass_kg = 0.02f;
+    cfg[4].effects.base_freq_hz = 3000.0f;
+    cfg[4].effects.base_damping_ratio = 0.05f;
+    w[3].kind = SS_WAVE_SAMPLED; /* fails at its 40th sample (below) */
+    w[3].samples_v = samples;
+    w[3].n_samples = 64u;
+    w[3].sample_interval_s = 10e-6f;
+    for (int r = 0; r < 2; ++r) {
+        memset(st[r], 0, sizeof st[r]); /* equal padding, so the states compare byte for byte */
+        for (int k = 0; k < JOBS; ++k) {
+            assert_int_equal(ss_waveform_init_f32(&w[k], cfg[k].dt_s, &ws[r][k]), SS_OK);
+            assert_int_equal(
+                ss_actuator_init_f32(&cfg[k], &st[r][k], ss_waveform_value_f32(&w[k], &ws[r][k])), SS_OK);
+            memset(&tr[r][k], 0, sizeof tr[r][k]);
+            tr[r][k].step = step[r][k];
+            tr[r][k].x_slider_m = x[r][k];
+            tr[r][k].force_n = f[r][k];
+            tr[r][k].capacity = MAX_ROWS;
+        }
+    }
+    samples[40] = NAN; /* after init, which would refuse it: the drive goes bad part way */
+    ss_status_t alone[JOBS];
+    uint32_t rows[JOBS];
+    for (int k = 0; k < JOBS; ++k) {
+        alone[k] = ss_actuator_run_f32(&cfg[k], &st[0][k], &w[k], &ws[0][k], n_steps[k], dec[k], &tr[0][k],
+                                       &rows[k]);
+        jobs[k] = (ss_actuator_run_job_f32_t){&cfg[k], &st[1][k], &w[k],  &ws[1][k],   n_steps[k],
+                                              dec[k],  &tr[1][k], 12345u, SS_ERR_RANGE};
+    }
+    assert_int_equal(alone[3], SS_ERR_NONFINITE);
+    assert_int_equal(ss_actuator_run_many_f32(jobs, JOBS), SS_OK);
+    for (int k = 0; k < JOBS; ++k) {
+        assert_int_equal(jobs[k].status, alone[k]);
+        assert_int_equal(jobs[k].rows, rows[k]);
+        assert_memory_equal(&st[1][k], &st[0][k], sizeof st[0][k]);
+        assert_memory_equal(step[1][k], step[0][k], rows[k] * sizeof(uint32_t));
+        assert_memory_equal(x[1][k], x[0][k], rows[k] * sizeof(float));
+        assert_memory_equal(f[1][k], f[0][k], rows[k] * sizeof(float));
+    }
+    assert_true(rows[3] > 0u && rows[3] < n_steps[3] / dec[3]); /* the rows before the NaN are kept */
+    /* a job without a state is refused by itself; the others run */
+    jobs[0].st = NULL;
+    jobs[1].decimation = 0u;
+    assert_int_equal(ss_actuator_run_many_f32(jobs, 3u), SS_ERR_NULL);
+    assert_int_equal(jobs[0].status, SS_ERR_NULL);
+    assert_int_equal(jobs[1].status, SS_ERR_RANGE);
+    assert_int_equal(jobs[2].status, SS_OK);
+    assert_int_equal(jobs[2].rows, n_steps[2] / dec[2]);
+    assert_int_equal(ss_actuator_run_many_f32(NULL, 1u), SS_ERR_NULL);
+    assert_int_equal(ss_actuator_run_many_f32(NULL, 0u), SS_OK);
+}
+
 /* The rod's position after n steps of dt through the drive w, friction almost nil (1 uN against
  * the piezo's 800 N), so that the rod alone moves: a linear system the drift solves exactly. With
  * corners: through ss_actuator_run_f32 (the player's corners inside steps); without: the chord. */
@@ -311,6 +392,7 @@ int main(void)
         cmocka_unit_test(test_step_convergence),
         cmocka_unit_test(test_long_travel_keeps_resolution),
         cmocka_unit_test(test_run_matches_manual_steps),
+        cmocka_unit_test(test_run_many_matches_run),
         cmocka_unit_test(test_corner_inside_a_step_is_exact),
         cmocka_unit_test(test_rod_flow_all_damping_regimes),
         cmocka_unit_test(test_abi_sizes),

@@ -8,7 +8,14 @@ import numpy as np
 import pytest
 
 from stickslip import _native as N
-from stickslip.model import ActuatorParams, Sawtooth, friction_response, simulate
+from stickslip.model import (
+    ActuatorParams,
+    Effects,
+    Sawtooth,
+    friction_response,
+    simulate,
+    simulate_many,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 HOST_SIM = ROOT / "build" / "host" / "host_sim" / "stickslip_sim"
@@ -209,3 +216,32 @@ def test_a_run_is_predicted_from_the_heat_the_runs_before_left(tmp_path):
     np.testing.assert_array_equal(predict_all([runs[0], runs[2]], m)[1], together[2])
     cold = _predict_heat(runs[2], m, 1e-6, 0.0)[0]
     assert np.max(np.abs(cold - together[2])) > 5e-9
+
+
+def test_a_batch_gives_each_run_the_bits_it_gets_alone():
+    # simulate_many interleaves two simulations step by step in the C core: the arithmetic of each
+    # is unchanged, so every column equals simulate()'s to the bit; a bad request is an error in
+    # its place, named as simulate() names it, and the others still run
+    drive = 50.0 * (1.0 + np.sin(np.linspace(0.0, 20.0, 400)))
+    requests = [
+        dict(waveform=Sawtooth(cycles=4), decimation=10),
+        dict(waveform=Sawtooth(frequency_hz=1000.0, cycles=9, direction=-1), model="lugre"),
+        dict(waveform=Sawtooth(cycles=2), params=ActuatorParams(rod_mass_kg=-1.0)),
+        dict(drive_v=drive, drive_interval_s=5e-6, model="gms", decimation=3, x0_m=1e-4),
+        dict(
+            waveform=Sawtooth(cycles=3),
+            effects=Effects(load_n=0.2, thermal_coeff_per_j=50.0, thermal_tau_s=0.1),
+            heat0_j=1e-4,
+            hold_s=2e-3,
+        ),
+    ]
+    batch = simulate_many(requests)
+    assert isinstance(batch[2], ValueError) and "rod_mass_kg" in str(batch[2])
+    for r, b in zip(requests, batch):
+        if r is requests[2]:
+            continue
+        a = simulate(**r)
+        assert b.heat_end_j == a.heat_end_j
+        for name in ("t_s", "x_rod_m", "x_slider_m", "force_n", "state_a", "x_meas_m"):
+            assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert simulate_many([]) == []

@@ -26,7 +26,15 @@ from scipy.signal import resample_poly
 from threadpoolctl import threadpool_limits
 
 from ..dataset import Run
-from ..model import ActuatorParams, Effects, Sawtooth, major_loop_gain, simulate
+from ..model import (
+    ActuatorParams,
+    Effects,
+    Sawtooth,
+    SimResult,
+    major_loop_gain,
+    simulate,
+    simulate_many,
+)
 from .catalog import CAUSE_PARAMS, CAUSE_START, Param, base_param
 
 MAX_DT_S = 1e-6  # the model's step: converged to 0.08 % per cycle (docs/model.md)
@@ -209,36 +217,32 @@ def _predict_heat(
     run: FitRun, model: Model, max_dt_s: float, heat0_j: float
 ) -> tuple[np.ndarray, float]:
     """predict() from a contact holding heat0_j, and the heat the run leaves."""
+    return _predicted(run, simulate(**_request(run, model, max_dt_s, heat0_j)))
+
+
+def _request(run: FitRun, model: Model, max_dt_s: float, heat0_j: float) -> dict:
+    """simulate()'s arguments for the run under the model."""
     dt, dec = sim_step_s(run, max_dt_s)
-    params = major_loop_gain(model.params, model.effects, run.stroke_v)
-    x0 = slider_start_m(run, model.effects)
-    n = len(run.t_s) - 1
+    kw = dict(
+        params=major_loop_gain(model.params, model.effects, run.stroke_v),
+        model=model.law,
+        dt_s=dt,
+        decimation=dec,
+        effects=model.effects,
+        x0_m=slider_start_m(run, model.effects),
+        heat0_j=heat0_j,
+    )
     if run.waveform is not None:
-        hold = max(0.0, n * run.dt_s - run.waveform.duration_s)
-        r = simulate(
-            run.waveform,
-            params,
-            model=model.law,
-            dt_s=dt,
-            hold_s=hold,
-            decimation=dec,
-            effects=model.effects,
-            x0_m=x0,
-            heat0_j=heat0_j,
-        )
+        n = len(run.t_s) - 1
+        kw.update(waveform=run.waveform, hold_s=max(0.0, n * run.dt_s - run.waveform.duration_s))
     else:
-        r = simulate(
-            None,
-            params,
-            model=model.law,
-            dt_s=dt,
-            decimation=dec,
-            drive_v=run.drive_v,
-            drive_interval_s=run.drive_dt_s,
-            effects=model.effects,
-            x0_m=x0,
-            heat0_j=heat0_j,
-        )
+        kw.update(drive_v=run.drive_v, drive_interval_s=run.drive_dt_s)
+    return kw
+
+
+def _predicted(run: FitRun, r: SimResult) -> tuple[np.ndarray, float]:
+    """The run's fit samples from a simulation of it (placed), and the heat it leaves."""
+    n = len(run.t_s) - 1
     x = r.x_meas_m
     if len(x) < n + 1:  # rounding of the duration: hold the last value
         x = np.concatenate([x, np.full(n + 1 - len(x), x[-1])])
@@ -258,20 +262,14 @@ def placed(run: FitRun, x: np.ndarray) -> np.ndarray:
 # (a refinement, the law check) does not leave a core idle. Keyed by process id: a forked
 # worker must not inherit its parent's pool, whose threads did not survive the fork.
 _SIM_POOLS: dict[int, ThreadPoolExecutor] = {}
+SIM_THREADS = max(1, min(os.cpu_count() or 1, 8))
 
 
 def _sim_pool() -> ThreadPoolExecutor:
     pid = os.getpid()
     if pid not in _SIM_POOLS:
-        _SIM_POOLS[pid] = ThreadPoolExecutor(max_workers=max(1, min(os.cpu_count() or 1, 8)))
+        _SIM_POOLS[pid] = ThreadPoolExecutor(max_workers=SIM_THREADS)
     return _SIM_POOLS[pid]
-
-
-def _predict_or_far(run: FitRun, model: Model, max_dt_s: float = MAX_DT_S) -> np.ndarray:
-    try:
-        return predict(run, model, max_dt_s)
-    except ValueError:  # a parameter the C library rejects: far off, not a crash
-        return np.full(len(run.x_m), 1.0)
 
 
 def _predict_chain(
@@ -312,17 +310,53 @@ def _order(run: FitRun) -> int:
 def predict_all(
     runs: list[FitRun], model: Model, far_on_error: bool = False, max_dt_s: float = MAX_DT_S
 ) -> list[np.ndarray]:
-    """predict() on every run, the runs spread over the simulation threads (longest first).
+    """predict() on every run, the runs spread over the simulation threads, each thread's share as
+    one batch of the C core (simulate_many: two runs interleaved step by step, the same bits).
     far_on_error: a model the C library rejects gives a position of 1 m instead of an error.
     With thermal_drift, the runs in their recorded order, each from the heat the last left."""
     if runs and carries_heat(model):
         return _predict_chain(runs, model, far_on_error, max_dt_s)
-    fn = _predict_or_far if far_on_error else predict
-    if len(runs) < 2:
-        return [fn(r, model, max_dt_s) for r in runs]
-    order = sorted(range(len(runs)), key=lambda i: -len(runs[i].x_m))
-    futs = {i: _sim_pool().submit(fn, runs[i], model, max_dt_s) for i in order}
-    return [futs[i].result() for i in range(len(runs))]
+    groups = _balanced(runs, max_dt_s, SIM_THREADS)
+    if len(groups) < 2:
+        return _predict_batch(runs, model, far_on_error, max_dt_s)
+    futs = [
+        _sim_pool().submit(_predict_batch, [runs[i] for i in g], model, far_on_error, max_dt_s)
+        for g in groups
+    ]
+    out: list[np.ndarray] = [np.zeros(0)] * len(runs)
+    for g, fu in zip(groups, futs):
+        for i, x in zip(g, fu.result()):
+            out[i] = x
+    return out
+
+
+def _balanced(runs: list[FitRun], max_dt_s: float, n: int) -> list[list[int]]:
+    """The runs' indices in at most n groups of about equal simulation steps (longest first, each
+    to the lightest group), each group longest first: a batch's two lanes then finish together."""
+    steps = [len(r.x_m) * sim_step_s(r, max_dt_s)[1] for r in runs]
+    groups: list[list[int]] = [[] for _ in range(max(1, min(n, len(runs))))]
+    load = [0] * len(groups)
+    for i in sorted(range(len(runs)), key=lambda i: -steps[i]):
+        k = load.index(min(load))
+        groups[k].append(i)
+        load[k] += steps[i]
+    return [g for g in groups if g]
+
+
+def _predict_batch(
+    runs: list[FitRun], model: Model, far_on_error: bool, max_dt_s: float
+) -> list[np.ndarray]:
+    """predict() on runs whose contact starts cold, as one batch of the C core."""
+    sims = simulate_many([_request(r, model, max_dt_s, 0.0) for r in runs])
+    out = []
+    for run, sim in zip(runs, sims):
+        if isinstance(sim, ValueError):
+            if not far_on_error:  # a parameter the C library rejects
+                raise sim
+            out.append(np.full(len(run.x_m), 1.0))  # far off, not a crash
+        else:
+            out.append(_predicted(run, sim)[0])
+    return out
 
 
 @dataclass(frozen=True)
