@@ -308,15 +308,20 @@ def _order(run: FitRun) -> int:
 
 
 def predict_all(
-    runs: list[FitRun], model: Model, far_on_error: bool = False, max_dt_s: float = MAX_DT_S
+    runs: list[FitRun],
+    model: Model,
+    far_on_error: bool = False,
+    max_dt_s: float = MAX_DT_S,
+    pooled: bool = True,
 ) -> list[np.ndarray]:
     """predict() on every run, the runs spread over the simulation threads, each thread's share as
     one batch of the C core (simulate_many: two runs interleaved step by step, the same bits).
     far_on_error: a model the C library rejects gives a position of 1 m instead of an error.
-    With thermal_drift, the runs in their recorded order, each from the heat the last left."""
+    With thermal_drift, the runs in their recorded order, each from the heat the last left.
+    pooled=False: all in the calling thread (a job already running on the simulation threads)."""
     if runs and carries_heat(model):
         return _predict_chain(runs, model, far_on_error, max_dt_s)
-    groups = _balanced(runs, max_dt_s, SIM_THREADS)
+    groups = _balanced(runs, max_dt_s, SIM_THREADS if pooled else 1)
     if len(groups) < 2:
         return _predict_batch(runs, model, far_on_error, max_dt_s)
     futs = [
@@ -420,12 +425,14 @@ def residuals(
     every: list[int],
     per_cycle: bool = False,
     max_dt_s: float = MAX_DT_S,
+    pooled: bool = True,
 ) -> np.ndarray:
     """Simulated minus measured position over noise, every k-th sample. per_cycle measures each
     sample from the start of its period instead: the residual no longer accumulates over a run,
-    which keeps the cost smooth far from the optimum (a fit's first stage)."""
+    which keeps the cost smooth far from the optimum (a fit's first stage). pooled: as in
+    predict_all."""
     parts = []
-    for run, k, x in zip(runs, every, predict_all(runs, model, True, max_dt_s)):
+    for run, k, x in zip(runs, every, predict_all(runs, model, True, max_dt_s, pooled)):
         r = x - run.x_m
         refs = _cycle_refs(run) if per_cycle else None
         if refs is not None:
@@ -508,6 +515,155 @@ def rel_stderr(p: Param, value: float, stderr: float) -> float:
     return stderr / scale if scale > 0 else math.inf
 
 
+class _Problem:
+    """One least-squares problem: the free parameters of start on runs, their fit coordinates,
+    bounds and start point, and the residual at any point (simulations counted in nfev)."""
+
+    def __init__(
+        self, runs: list[FitRun], nominal: ActuatorParams, start: Model, free: Free, noise_m: float
+    ):
+        self.runs, self.start, self.free, self.noise_m = runs, start, free, noise_m
+        self.specs = specs = specs_for(nominal, free)
+        self.nb = len(free.base)
+        self.every = strides(runs)
+        theta0 = []
+        for i, s in enumerate(specs):
+            if i < self.nb:
+                v = start.base_value(s.name)
+            else:
+                cause = next(c for c in free.causes if s in CAUSE_PARAMS[c])
+                v = CAUSE_START.get(cause, {}).get(s.name, 0.0)
+                if getattr(start.effects, s.name) != 0.0:
+                    v = getattr(start.effects, s.name)
+            t_lo, t_hi = s.bounds()
+            theta0.append(min(max(s.theta(v), t_lo + 1e-9), t_hi - 1e-9))
+        self.theta0 = np.array(theta0)
+        self.lo = np.array([s.bounds()[0] for s in specs])
+        self.hi = np.array([s.bounds()[1] for s in specs])
+        self.nfev = 0
+        rings = "base_compliance" in free.causes or start.effects.base_mass_kg != 0.0
+        self.jac_dt = MAX_DT_S if rings else JAC_MAX_DT_S
+
+    def model(self, theta: np.ndarray) -> Model:
+        return build(self.start, self.free, theta, self.specs)
+
+    def res_at(self, theta: np.ndarray, per_cycle: bool, max_dt_s: float = MAX_DT_S) -> np.ndarray:
+        self.nfev += 1
+        return residuals(
+            self.runs, self.model(theta), self.noise_m, self.every, per_cycle, max_dt_s
+        )
+
+    def res_many(
+        self, thetas: list[np.ndarray], per_cycle: bool, max_dt_s: float
+    ) -> list[np.ndarray]:
+        """res_at at each theta. A model with thermal_drift simulates its runs one after another
+        (each starts with the heat the last left), on one core: its points then run side by side
+        on the simulation threads instead, each in one thread (the same results)."""
+        if not thetas or not carries_heat(self.model(thetas[0])):
+            return [self.res_at(th, per_cycle, max_dt_s) for th in thetas]
+        self.nfev += len(thetas)
+
+        def one(th: np.ndarray) -> np.ndarray:
+            m = self.model(th)
+            return residuals(
+                self.runs, m, self.noise_m, self.every, per_cycle, max_dt_s, pooled=False
+            )
+
+        return list(_sim_pool().map(one, thetas))
+
+    def solve(self, theta0: np.ndarray, per_cycle: bool, nfev: int, tol: float):
+        cache: dict[bytes, np.ndarray] = {}
+
+        def fun(theta: np.ndarray) -> np.ndarray:
+            key = theta.tobytes()
+            if key not in cache:
+                cache.clear()  # least_squares asks for jac at the point it just evaluated
+                cache[key] = self.res_at(theta, per_cycle)
+            return cache[key]
+
+        def jac(theta: np.ndarray) -> np.ndarray:
+            # forward differences with an absolute step of H_THETA: well above the float32
+            # rounding of the model, well below its scales (scipy's relative steps vanish at 0)
+            jac_dt = self.jac_dt
+            f0 = fun(theta) if jac_dt == MAX_DT_S else self.res_at(theta, per_cycle, jac_dt)
+            points, steps = [], []
+            for i in range(len(theta)):
+                th = theta.copy()
+                h = H_THETA if th[i] + H_THETA <= self.hi[i] else -H_THETA
+                th[i] += h
+                points.append(th)
+                steps.append(h)
+            cols = self.res_many(points, per_cycle, jac_dt)
+            return np.column_stack([(c - f0) / h for c, h in zip(cols, steps)])
+
+        return least_squares(
+            fun,
+            theta0,
+            jac=jac,
+            bounds=(self.lo, self.hi),
+            x_scale=1.0,
+            max_nfev=nfev,
+            xtol=tol,
+            ftol=tol,
+        )
+
+    def first_stage(self, max_nfev: int, grid: bool) -> tuple[np.ndarray, float]:
+        """Stage 1 on the per-cycle residual, from the cheapest start point: every combination of
+        the grid values (not grid: start's own point only), with the base parameters both as
+        given and nominal (an effect the base model lacks distorts its calibration). Returns the
+        point and its per-cycle cost (sum of squares over the noise)."""
+        nb, lo, hi, theta0 = self.nb, self.lo, self.hi, self.theta0
+        starts = []
+        axes = [(i, s.grid) for i, s in enumerate(self.specs) if s.grid and grid]
+        combos = list(itertools.product(*(g for _, g in axes))) if axes else [()]
+        # (one set when start is at nominal: theta is 0 there)
+        bases = {theta0[:nb].tobytes(): theta0[:nb], np.zeros(nb).tobytes(): np.zeros(nb)}
+        for b in bases.values():
+            for combo in combos:
+                th = theta0.copy()
+                th[:nb] = np.clip(b, lo[:nb] + 1e-9, hi[:nb] - 1e-9)
+                for (i, _), v in zip(axes, combo):
+                    th[i] = self.specs[i].theta(v)
+                starts.append(th)
+        if len(starts) > 1:
+            costs = [float(np.sum(r**2)) for r in self.res_many(starts, True, MAX_DT_S)]
+            theta0 = starts[int(np.argmin(costs))]
+        # near is enough here: stage 2 sets the digits
+        res = self.solve(theta0, True, max_nfev, 1e-3)
+        return res.x, float(2.0 * res.cost)
+
+    def second_stage(self, theta0: np.ndarray, nfev: int) -> FitResult:
+        """Stage 2 on the absolute position (what the validation measures), from theta0."""
+        res = self.solve(theta0, False, nfev, 1e-5)
+        specs, lo, hi = self.specs, self.lo, self.hi
+        model = self.model(res.x)
+        stderr, corr = _uncertainty(res.jac, res.fun, specs, model)
+        at_bound = tuple(
+            s.name
+            for s, t, a, b in zip(specs, res.x, lo, hi)
+            if min(t - a, b - t) < 1e-3 * max(1.0, b - a)
+        )
+        r = res.fun * self.noise_m
+        return FitResult(
+            self.free,
+            model,
+            model.values(),
+            float(np.sqrt(np.mean(r**2))),
+            self.nfev,
+            stderr,
+            corr,
+            at_bound,
+            res.jac,
+            res.fun,
+            specs,
+        )
+
+
+def second_stage_nfev(max_nfev: int) -> int:
+    """The second stage's budget after a first stage of max_nfev."""
+    return max(10, max_nfev // 2)
+
+
 @with_one_blas_thread  # a fit may run in an executor's process, outside diagnose()
 def fit(
     runs: list[FitRun],
@@ -525,100 +681,42 @@ def fit(
     convex), unless polish (the fit continues from start alone) or not grid (start is already
     a good point, e.g. a screened one). Two stages: the per-cycle
     residual to get near, then the absolute position (what the validation measures)."""
-    specs = specs_for(nominal, free)
-    nb = len(free.base)
-    every = strides(runs)
-    theta0 = []
-    for i, s in enumerate(specs):
-        if i < nb:
-            v = start.base_value(s.name)
-        else:
-            cause = next(c for c in free.causes if s in CAUSE_PARAMS[c])
-            v = CAUSE_START.get(cause, {}).get(s.name, 0.0)
-            if getattr(start.effects, s.name) != 0.0:
-                v = getattr(start.effects, s.name)
-        t_lo, t_hi = s.bounds()
-        theta0.append(min(max(s.theta(v), t_lo + 1e-9), t_hi - 1e-9))
-    theta0_arr = np.array(theta0)
-    lo = np.array([s.bounds()[0] for s in specs])
-    hi = np.array([s.bounds()[1] for s in specs])
-    counter = [0]
-    rings = "base_compliance" in free.causes or start.effects.base_mass_kg != 0.0
-    jac_dt = MAX_DT_S if rings else JAC_MAX_DT_S
+    p = _Problem(runs, nominal, start, free, noise_m)
+    if polish:
+        return p.second_stage(p.theta0, max_nfev)
+    theta, _ = p.first_stage(max_nfev, grid)
+    return p.second_stage(theta, second_stage_nfev(max_nfev))
 
-    def res_at(theta: np.ndarray, per_cycle: bool, max_dt_s: float = MAX_DT_S) -> np.ndarray:
-        counter[0] += 1
-        m = build(start, free, theta, specs)
-        return residuals(runs, m, noise_m, every, per_cycle, max_dt_s)
 
-    def solve(theta0: np.ndarray, per_cycle: bool, nfev: int, tol: float):
-        cache: dict[bytes, np.ndarray] = {}
+@with_one_blas_thread
+def first_stage(
+    runs: list[FitRun],
+    nominal: ActuatorParams,
+    start: Model,
+    free: Free,
+    noise_m: float,
+    max_nfev: int = 30,
+    grid: bool = True,
+) -> tuple[np.ndarray, float]:
+    """fit()'s first stage alone: the point it reaches and its per-cycle cost, to compare starts
+    (e.g. the same cause under each friction law) before paying for a second stage."""
+    return _Problem(runs, nominal, start, free, noise_m).first_stage(max_nfev, grid)
 
-        def fun(theta: np.ndarray) -> np.ndarray:
-            key = theta.tobytes()
-            if key not in cache:
-                cache.clear()  # least_squares asks for jac at the point it just evaluated
-                cache[key] = res_at(theta, per_cycle)
-            return cache[key]
 
-        def jac(theta: np.ndarray) -> np.ndarray:
-            # forward differences with an absolute step of H_THETA: well above the float32
-            # rounding of the model, well below its scales (scipy's relative steps vanish at 0)
-            f0 = fun(theta) if jac_dt == MAX_DT_S else res_at(theta, per_cycle, jac_dt)
-            cols = []
-            for i in range(len(theta)):
-                th = theta.copy()
-                h = H_THETA if th[i] + H_THETA <= hi[i] else -H_THETA
-                th[i] += h
-                cols.append((res_at(th, per_cycle, jac_dt) - f0) / h)
-            return np.column_stack(cols)
-
-        return least_squares(
-            fun, theta0, jac=jac, bounds=(lo, hi), x_scale=1.0, max_nfev=nfev, xtol=tol, ftol=tol
-        )
-
-    if not polish:
-        # Stage 1 on the per-cycle residual. Start points: every combination of the grid values,
-        # with the base parameters both as given and nominal (an effect the base model lacks
-        # distorts its calibration); the cheapest is fitted.
-        starts = []
-        axes = [(i, s.grid) for i, s in enumerate(specs) if s.grid and grid]
-        combos = list(itertools.product(*(g for _, g in axes))) if axes else [()]
-        # (one set when start is at nominal: theta is 0 there)
-        bases = {theta0_arr[:nb].tobytes(): theta0_arr[:nb], np.zeros(nb).tobytes(): np.zeros(nb)}
-        for b in bases.values():
-            for combo in combos:
-                th = theta0_arr.copy()
-                th[:nb] = np.clip(b, lo[:nb] + 1e-9, hi[:nb] - 1e-9)
-                for (i, _), v in zip(axes, combo):
-                    th[i] = specs[i].theta(v)
-                starts.append(th)
-        if len(starts) > 1:
-            costs = [float(np.sum(res_at(th, True) ** 2)) for th in starts]
-            theta0_arr = starts[int(np.argmin(costs))]
-        # near is enough here: stage 2 sets the digits
-        theta0_arr = solve(theta0_arr, True, max_nfev, 1e-3).x
-    res = solve(theta0_arr, False, max_nfev if polish else max(10, max_nfev // 2), 1e-5)
-    model = build(start, free, res.x, specs)
-    stderr, corr = _uncertainty(res.jac, res.fun, specs, model)
-    at_bound = tuple(
-        s.name
-        for s, t, a, b in zip(specs, res.x, lo, hi)
-        if min(t - a, b - t) < 1e-3 * max(1.0, b - a)
-    )
-    r = res.fun * noise_m
-    return FitResult(
-        free,
-        model,
-        model.values(),
-        float(np.sqrt(np.mean(r**2))),
-        counter[0],
-        stderr,
-        corr,
-        at_bound,
-        res.jac,
-        res.fun,
-        specs,
+@with_one_blas_thread
+def fit_from(
+    runs: list[FitRun],
+    nominal: ActuatorParams,
+    start: Model,
+    free: Free,
+    noise_m: float,
+    theta: np.ndarray,
+    max_nfev: int = 30,
+) -> FitResult:
+    """fit()'s second stage from a first stage's point (first_stage with the same start, free
+    and max_nfev): together they are fit(), bit for bit."""
+    return _Problem(runs, nominal, start, free, noise_m).second_stage(
+        theta, second_stage_nfev(max_nfev)
     )
 
 

@@ -1,0 +1,169 @@
+"""What each diagnosis of the hit-rate tables costs, in model steps (deterministic, unlike wall
+time on a shared machine), by stage, and where its kept causes came from (the round, and whether
+from the first batch of fits of a screen or a later one). One JSON line a diagnosis, so a run
+can be compared with another line by line; the answers are diagnosis_bench.py's.
+
+    PYTHONPATH=hil:bench .venv/bin/python bench/diagnosis_cost.py --generator own --out own.jsonl
+    PYTHONPATH=hil:bench .venv/bin/python bench/diagnosis_cost.py --generator independent \\
+        --cases piezo_hysteresis base_compliance --seeds 2 --out ind.jsonl
+
+Datasets are generated into --data and kept (a second run skips the generation).
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import json
+import sys
+import threading
+import time
+from pathlib import Path
+
+import diagnosis_bench as B
+import diagnosis_profile as P
+
+from stickslip import _native as N
+from stickslip.diagnosis import pipeline as PL
+
+
+class StepCounter:
+    """Model steps simulated through the float core, per progress stage."""
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+        self.by_stage: collections.Counter[str] = collections.Counter()
+        self.stage = "start"
+
+    def add(self, steps: int) -> None:
+        with self.lock:
+            self.by_stage[self.stage] += steps
+
+    def install(self) -> None:
+        one, many = N.run_f32, N.run_f32_many
+
+        def run_f32(cfg, wave, n_steps, *args, **kw):
+            self.add(n_steps)
+            return one(cfg, wave, n_steps, *args, **kw)
+
+        def run_f32_many(runs):
+            self.add(sum(r[2] for r in runs))
+            return many(runs)
+
+        N.run_f32, N.run_f32_many = run_f32, run_f32_many  # model.py looks them up at call time
+
+
+def tag_batches() -> None:
+    """Mark each candidate with the batch of fits it came from (0: the first of its parent's
+    screen, 1: the next, ...)."""
+    fit_pending = PL._Session.fit_pending
+
+    def tagged(self, parent):
+        calls = self.__dict__.setdefault("_batches", collections.Counter())
+        batch = calls[id(parent)]
+        calls[id(parent)] += 1
+        out = fit_pending(self, parent)
+        for i, c in enumerate(out):
+            c.batch = batch
+            c.rank = batch * PL.TOP_FIT + i  # among the causes its screen found promising
+        return out
+
+    PL._Session.fit_pending = tagged
+
+
+def stage_of(msg: str) -> str:
+    """The stage a progress message opens, without the names of causes and laws."""
+    for key in (
+        "calibrating",
+        "the data prefer",
+        "the calibrated",
+        "screening",
+        "checking each",
+        "checking",
+        "refining",
+        "refitting",
+        "choosing the friction law",
+        "the base law explains",
+        "adding to",
+        "fitting",
+        "nominal",
+    ):
+        if msg.startswith(key):
+            return key
+    return msg.split(" ")[0]
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--generator", choices=("own", "independent"), default="own")
+    ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--first-seed", type=int, default=100)
+    ap.add_argument("--rate-hz", type=float, default=250e3)
+    ap.add_argument("--data", type=Path, default=Path("out/diagnosis-cost"))
+    ap.add_argument("--out", type=Path, required=True, help="JSON lines, one a diagnosis")
+    a0, _ = ap.parse_known_args()
+    table = B.OWN_CASES if a0.generator == "own" else B.IND_CASES
+    names = [c[0] for c in table]
+    ap.add_argument("--cases", nargs="+", choices=names, default=names, help="default: all")
+    a = ap.parse_args()
+    counter = StepCounter()
+    counter.install()
+    tag_batches()
+    with a.out.open("w") as out:
+        for name, causes, kw in (c for c in table if c[0] in a.cases):
+            for seed in range(a.first_seed, a.first_seed + a.seeds):
+                case = name if a.generator == "independent" else f"own:{name}"
+                path = P.dataset(case, seed, a.rate_hz, a.data)
+                counter.by_stage.clear()
+
+                def say(msg: str) -> None:
+                    counter.stage = stage_of(msg)
+
+                t0 = time.perf_counter()
+                d = PL.diagnose(path, progress=say)
+                wall = time.perf_counter() - t0
+                j = d.to_json()
+                hit = (
+                    B.hit_own(name, causes, j)
+                    if a.generator == "own"
+                    else B.hit_independent(name, causes, kw, j)
+                )
+                kept = [
+                    {
+                        "round": i,
+                        "batch": getattr(c, "batch", None),
+                        "rank": getattr(c, "rank", None),
+                        "causes": list(c.causes),
+                        "law": c.law,
+                    }
+                    for i, rnd in enumerate(d.rounds)
+                    for c in rnd
+                    if c.verdict is not None and c.verdict.confirmed
+                ]
+                row = {
+                    "case": name,
+                    "seed": seed,
+                    "hit": hit,
+                    "causes": j["causes"],
+                    "unexplained": j["unexplained"],
+                    "rmse_over_noise": j["extended"]["validation_rmse_m"] / j["sensor_noise_m"],
+                    "wall_s": round(wall, 1),
+                    "msteps": round(sum(counter.by_stage.values()) / 1e6, 2),
+                    "msteps_by_stage": {
+                        k: round(v / 1e6, 2) for k, v in counter.by_stage.most_common()
+                    },
+                    "rounds": [len(r) for r in d.rounds],
+                    "kept": kept,
+                }
+                out.write(json.dumps(row) + "\n")
+                out.flush()
+                print(
+                    f"{name} {seed}: {'hit' if hit else 'miss'} {j['causes']} "
+                    f"unexplained {j['unexplained']}, {wall:.0f} s, {row['msteps']} M steps",
+                    flush=True,
+                )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
