@@ -46,10 +46,8 @@ typedef struct {
     int32_t hysteresis_q40; /* Bouc-Wen hysteretic strain h (x_p = u - h), m at 2^-40 */
     int32_t x_base_q40;     /* base displacement (effects.base_kick_q40), m at 2^-40 */
     int32_t v_base_q28;     /* base velocity, m/s at 2^-28 */
-    int32_t xp_rate_q28; /* piezo strain rate over the last step (the piezo damper's share), m/s at 2^-28 */
-    int32_t pad2;        /* zero */
-    uint32_t steps;      /* steps taken since init */
-    uint32_t pad;        /* zero; keeps the union 8-byte aligned on every target */
+    uint32_t steps;         /* steps taken since init */
+    uint32_t pad;           /* zero; keeps the union 8-byte aligned on every target */
     union {
         ss_ls_state_q_t ls;
         ss_lugre_state_q_t lugre;

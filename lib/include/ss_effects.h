@@ -33,14 +33,13 @@ typedef struct {
 } ss_effects_config_f32_t;
 
 typedef struct {
-    float amp_v;           /* voltage on the piezo (the slew-limited command) */
-    float creep_v;         /* creep state w, V */
-    float hysteresis_m;    /* Bouc-Wen hysteretic strain h, m */
-    float strain_m;        /* ideal strain u before hysteresis, m */
-    float heat_j;          /* stored frictional heat q, J */
-    float x_base_m;        /* base displacement */
-    float v_base_m_per_s;  /* base velocity */
-    float xp_rate_m_per_s; /* piezo strain rate over the last step (the piezo damper's share) */
+    float amp_v;          /* voltage on the piezo (the slew-limited command) */
+    float creep_v;        /* creep state w, V */
+    float hysteresis_m;   /* Bouc-Wen hysteretic strain h, m */
+    float strain_m;       /* ideal strain u before hysteresis, m */
+    float heat_j;         /* stored frictional heat q, J */
+    float x_base_m;       /* base displacement */
+    float v_base_m_per_s; /* base velocity */
 } ss_effects_state_f32_t;
 
 /* All off. */

@@ -157,9 +157,10 @@ static float base_force(const ss_actuator_config_f32_t *cfg, const ss_actuator_s
     const float c_b = 2.0f * e->base_damping_ratio * e->base_mass_kg * w;
     const float x_b = st->fx.x_base_m;
     const float v_b = st->fx.v_base_m_per_s;
-    /* the piezo pushes the rod with F_p and the base with -F_p */
+    /* the stack between base and rod pushes the rod with F_p and the base with -F_p: its spring on
+     * the stack's elastic length, its damper on the stack's length rate, as on the rod (rod_drift) */
     const float f_piezo = cfg->piezo_stiffness_n_per_m * (st->x_p_m + x_b - st->x_rod_m) +
-                          cfg->piezo_damping_kg_per_s * (st->fx.xp_rate_m_per_s + v_b - st->v_rod_m_per_s);
+                          cfg->piezo_damping_kg_per_s * (v_b - st->v_rod_m_per_s);
     return -k_b * x_b - c_b * v_b - f_piezo;
 }
 
@@ -212,13 +213,15 @@ ss_status_t ss_actuator_init_f32(const ss_actuator_config_f32_t *cfg, ss_actuato
     return SS_OK;
 }
 
-/* The rod's exact flow over s under a piezo anchor ramping linearly from a0 to a1 (phi: the free
- * flow over s). Its forced response is y(t) = a(t) - c b / k with b the ramp rate; the rest is free. */
+/* The rod's exact flow over s under a piezo anchor (strain plus base) ramping linearly from a0 to a1,
+ * the base moving at v_b (phi: the free flow over s). The stack's damper acts on its length rate,
+ * the rod's velocity relative to the base: M x'' = k (a - x) - c (x' - v_b). Its forced response is
+ * y(t) = a(t) - c (b - v_b) / k with b the ramp rate; the rest is free. */
 static void rod_drift(const ss_actuator_config_f32_t *cfg, const float phi[4], float s, float a0, float a1,
-                      float *x, float *v)
+                      float v_b, float *x, float *v)
 {
     const float b = (a1 - a0) / s;
-    const float lag = cfg->piezo_damping_kg_per_s * b / cfg->piezo_stiffness_n_per_m;
+    const float lag = cfg->piezo_damping_kg_per_s * (b - v_b) / cfg->piezo_stiffness_n_per_m;
     const float e0 = *x - (a0 - lag);
     const float ed0 = *v - b;
     const float e1 = phi[0] * e0 + phi[1] * ed0;
@@ -244,9 +247,9 @@ static float drift_with_corner(const ss_actuator_config_f32_t *cfg, ss_actuator_
     const float a1 = x_p1 + (x_b0 + st->fx.v_base_m_per_s * dt);
     float phi[4];
     rod_flow(cfg, t1, phi);
-    rod_drift(cfg, phi, t1, a0, ac, &st->x_rod_m, &st->v_rod_m_per_s);
+    rod_drift(cfg, phi, t1, a0, ac, st->fx.v_base_m_per_s, &st->x_rod_m, &st->v_rod_m_per_s);
     rod_flow(cfg, t2, phi);
-    rod_drift(cfg, phi, t2, ac, a1, &st->x_rod_m, &st->v_rod_m_per_s);
+    rod_drift(cfg, phi, t2, ac, a1, st->fx.v_base_m_per_s, &st->x_rod_m, &st->v_rod_m_per_s);
     return x_p1;
 }
 
@@ -281,12 +284,11 @@ static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f
         /* one straight piece, with the flow over dt from init */
         x_p1 = ss_effects_drive_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, dt);
         const float a1 = x_p1 + (x_b0 + st->fx.v_base_m_per_s * dt);
-        rod_drift(cfg, st->phi, dt, a0, a1, &st->x_rod_m, &st->v_rod_m_per_s);
+        rod_drift(cfg, st->phi, dt, a0, a1, st->fx.v_base_m_per_s, &st->x_rod_m, &st->v_rod_m_per_s);
     }
     const float x_b1 = x_b0 + st->fx.v_base_m_per_s * dt;
     const float dx_slider = st->v_slider_m_per_s * dt;
     const float dx_rel = (st->x_rod_m - x_rod0) - dx_slider;
-    st->fx.xp_rate_m_per_s = (x_p1 - st->x_p_m) / dt;
     st->fx.x_base_m = x_b1;
     position_add(&st->x_slider, dx_slider);
     st->x_p_m = x_p1;

@@ -115,8 +115,6 @@ ss_status_t ss_actuator_init_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     st->pad = 0u;
     st->x_base_q40 = 0;
     st->v_base_q28 = 0;
-    st->xp_rate_q28 = 0;
-    st->pad2 = 0;
     return SS_OK;
 }
 
@@ -129,14 +127,15 @@ static void kick(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st)
     st->v_slider_q28 = ss_sat32(st->v_slider_q28 + ss_shr_round(on_slider * cfg->kick_slider_q40, 36));
     const ss_effects_config_q_t *e = &cfg->effects;
     if (e->base_kick_q40 != 0) {
-        /* the base's spring-damper, and the piezo pushing it with -F_p (it pushes the rod with F_p):
-         * N/m times m at 2^-40 is N at 2^-40, Q16 N s/m times m/s at 2^-28 is N at 2^-44 */
-        const int64_t f_piezo = ss_shr_round((int64_t)e->piezo_stiffness_n_per_m *
-                                                 ((int64_t)st->x_p_q40 + st->x_base_q40 - st->x_rod_q40),
-                                             16) +
-                                ss_shr_round((int64_t)e->piezo_damping_q16 *
-                                                 ((int64_t)st->xp_rate_q28 + st->v_base_q28 - st->v_rod_q28),
-                                             20);
+        /* the base's spring-damper, and the stack pushing it with -F_p (it pushes the rod with F_p):
+         * its spring on the stack's elastic length, its damper on the stack's length rate, as on the
+         * rod (the drift's lag). N/m times m at 2^-40 is N at 2^-40, Q16 N s/m times m/s at 2^-28
+         * is N at 2^-44 */
+        const int64_t f_piezo =
+            ss_shr_round((int64_t)e->piezo_stiffness_n_per_m *
+                             ((int64_t)st->x_p_q40 + st->x_base_q40 - st->x_rod_q40),
+                         16) +
+            ss_shr_round((int64_t)e->piezo_damping_q16 * ((int64_t)st->v_base_q28 - st->v_rod_q28), 20);
         const int64_t f_base = -ss_shr_round((int64_t)e->base_stiffness_n_per_m * st->x_base_q40, 16) -
                                ss_shr_round((int64_t)e->base_damping_q16 * st->v_base_q28, 20) - f_piezo;
         st->v_base_q28 = ss_sat32(
@@ -197,9 +196,11 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     const int64_t dt = cfg->dt_q40;
     kick(cfg, st);
 
-    /* drift: exact flow of the rod under a strain ramping linearly over the step (rate b); its
-     * forced response is x_p(t) - c b / k, the rest e is free. Intermediates saturate at the
-     * formats' ranges (a drive jump beyond 8 m/s of strain rate is not a physical drive). */
+    /* drift: exact flow of the rod under an anchor (strain plus base) ramping linearly over the step
+     * (rate b); the stack's damper acts on the rod's velocity relative to the base, so its forced
+     * response is a(t) - c (b - v_b) / k = a(t) - c x_p' / k, the rest e is free. Intermediates
+     * saturate at the formats' ranges (a drive jump beyond 8 m/s of strain rate is not a physical
+     * drive). */
     const int32_t x_p1 = piezo_strain_q40(cfg, st, drive_q16);
     /* the anchor a = strain + base (the base drifts at its velocity; 0 without one) */
     const int32_t x_b1 =
@@ -210,7 +211,9 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     const int64_t a1 = (int64_t)x_p1 + x_b1;
     const int64_t dxp = ss_sat32(a1 - a0);
     const int64_t b = ss_sat32(ss_div_round(dxp * ((int64_t)1 << SS_QF_DXDT), dt)); /* m/s at 2^-28 */
-    const int64_t lag = ss_shr_round((int64_t)cfg->lag_q24 * dxp, SS_QF_LAG);       /* c b / k, m at 2^-40 */
+    /* c (b - v_b) / k, m at 2^-40: from the strain's change (the anchor's, without a base) */
+    const int64_t lag =
+        ss_shr_round((int64_t)cfg->lag_q24 * ss_sat32((int64_t)x_p1 - st->x_p_q40), SS_QF_LAG);
     const int64_t e0 = ss_sat32((int64_t)st->x_rod_q40 - (a0 - lag));
     const int64_t ed0 = ss_sat32((int64_t)st->v_rod_q28 - b);
     const int32_t *phi = cfg->phi_q28;
@@ -223,11 +226,7 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     const int32_t dx_rel = ss_sat32((int64_t)x_rod1 - st->x_rod_q40 - dx_slider);
     st->x_rod_q40 = x_rod1;
     st->v_rod_q28 = ss_sat32(b + ed1);
-    st->x_slider_q40 += dx_slider;         /* the same increment the friction sees: no drift between them */
-    if (cfg->effects.base_kick_q40 != 0) { /* the piezo damper's share, for the base's kicks */
-        st->xp_rate_q28 =
-            ss_sat32(ss_div_round(((int64_t)x_p1 - st->x_p_q40) * ((int64_t)1 << SS_QF_DXDT), dt));
-    }
+    st->x_slider_q40 += dx_slider; /* the same increment the friction sees: no drift between them */
     st->x_base_q40 = x_b1;
     st->x_p_q40 = x_p1;
     st->drive_q16 = drive_q16;

@@ -70,7 +70,6 @@ void ss_effects_init_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f3
     st->heat_j = 0.0f;
     st->x_base_m = 0.0f;
     st->v_base_m_per_s = 0.0f;
-    st->xp_rate_m_per_s = 0.0f;
 }
 
 float ss_effects_drive_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f32_t *st, float gain_m_per_v,
