@@ -457,6 +457,8 @@ class FitResult:
     jac: np.ndarray | None = None  # residual / noise against theta at the optimum
     fun: np.ndarray | None = None  # residual / noise at the optimum
     specs: list[Param] = field(default_factory=list)
+    # a fit whose law was chosen by first stages under each law: each law's per-cycle cost
+    first_stage_costs: dict[str, float] = field(default_factory=dict)
 
     @property
     def causes(self) -> tuple[str, ...]:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -62,6 +62,8 @@ class Screened:
     amplitude: float  # the fitted multiple of the probe's change
     from_nominal: bool = False  # the best point was probed with the base parameters at nominal
     law: str = ""  # ... and with this friction law
+    # per friction law, the best point probed with the base parameters at nominal under it
+    nominal_points: dict[str, dict[str, float]] = field(default_factory=dict)
 
 
 def screen(
@@ -89,14 +91,18 @@ def screen(
         rss, a = _predict(np.column_stack([lin.jac, d]), lin.r, val)
         if best is None or rss < best.rss_val:
             best = Screened(cause, v, rss, int(np.sum(val)), rss_parent, a)
+    per_law: dict[str, dict[str, float]] = {}
     if parent_per_cycle is not None:
         pc_parent = float(np.sum(parent_per_cycle[val] ** 2))
         for law, rs in (nominal_probes or {}).items():
-            for v, rn in zip(points, rs):
-                rss = rss_parent * float(np.sum(rn[val] ** 2)) / max(pc_parent, 1e-300)
-                if best is None or rss < best.rss_val:
-                    best = Screened(cause, v, rss, int(np.sum(val)), rss_parent, 1.0, True, law)
+            costs = [float(np.sum(rn[val] ** 2)) for rn in rs]
+            i = int(np.argmin(costs))
+            per_law[law] = points[i]
+            rss = rss_parent * costs[i] / max(pc_parent, 1e-300)
+            if best is None or rss < best.rss_val:
+                best = Screened(cause, points[i], rss, int(np.sum(val)), rss_parent, 1.0, True, law)
     assert best is not None
+    best.nominal_points = per_law
     return best
 
 

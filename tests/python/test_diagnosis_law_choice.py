@@ -1,0 +1,121 @@
+"""A cause fitted from the nominal parameters (base compliance) under the friction law whose first
+stage fits it best: which starts are submitted, which law is kept, and when the law need not be
+chosen again (pipeline._fit_under_best_law, _law_chosen_with_it; screen's per-law probe points)."""
+
+from __future__ import annotations
+
+from concurrent.futures import Future
+
+import numpy as np
+
+from stickslip.diagnosis import pipeline as PL
+from stickslip.diagnosis.fit import Evaluation, FitResult, Free, Model
+from stickslip.diagnosis.guards import Linearization
+from stickslip.diagnosis.pipeline import Candidate, _Session
+from stickslip.diagnosis.screen import Screened, screen
+from stickslip.model import ActuatorParams, Effects
+
+NOMINAL = ActuatorParams.table1()
+BENT = ActuatorParams(normal_force_n=6.0, piezo_damping_kg_per_s=40.0)  # a calibration a base bent
+LAWS = ("ls", "lugre", "gms")
+
+
+class _Recorder:
+    """An executor that runs nothing: it records each job and returns an empty fit."""
+
+    def __init__(self):
+        self.jobs: list[tuple] = []
+
+    def submit(self, fn, *args):
+        self.jobs.append((fn, args))
+        fu: Future = Future()
+        m = Model(NOMINAL)
+        fu.set_result((FitResult(Free((), ()), m, m.values(), 0.0, 0), Evaluation(0, 0, 1, 1)))
+        return fu
+
+
+def _session() -> tuple[_Session, _Recorder, Candidate]:
+    ex = _Recorder()
+    s = _Session(NOMINAL, [], [], [], 2e-9, ex, lambda _: None)
+    s.laws = LAWS
+    for law in LAWS:
+        s.held[law], s.free_base[law] = (), ("normal_force_n", f"{law}_only")
+    m = Model(BENT, law="lugre")
+    base = Candidate(FitResult(Free((), ()), m, m.values(), 0.0, 0), Evaluation(0, 0, 1, 1), 0.0)
+    return s, ex, base
+
+
+def _screened(from_nominal: bool) -> Screened:
+    points = {
+        law: {"base_mass_kg": 0.02, "base_freq_hz": f} for law, f in zip(LAWS, (1e3, 2e3, 3e3))
+    }
+    return Screened(
+        "base_compliance", points["lugre"], 1.0, 10, 2.0, 1.0, from_nominal, "lugre", points
+    )
+
+
+def test_a_base_is_fitted_from_nominal_under_every_law():
+    for from_nominal in (True, False):
+        s, ex, base = _session()
+        s.pending[id(base)] = (base, [_screened(from_nominal)])
+        s.fit_pending(base)
+        [(fn, args)] = ex.jobs
+        assert fn is PL._fit_under_best_law
+        starts = args[3]
+        assert [m.law for m, _, _ in starts] == list(LAWS)
+        for (m, free, grid), f_hz in zip(starts, (1e3, 2e3, 3e3)):
+            # at nominal, whatever the calibration bent; the law's identifiable parameters free
+            assert m.params == NOMINAL
+            assert free == Free(("normal_force_n", f"{m.law}_only"), ("base_compliance",))
+            # from the screen's probe of this law at nominal when one screened best, else the grid
+            assert grid is not from_nominal
+            assert m.effects.base_freq_hz == (f_hz if from_nominal else 0.0)
+
+
+def test_the_law_whose_first_stage_fits_best_is_kept(monkeypatch):
+    costs = {"ls": 5e7, "lugre": 3e5, "gms": 2e7}
+    seen = []
+
+    def first_stage(train, nominal, m, free, noise_m, max_nfev, grid):
+        return np.array([costs[m.law]]), costs[m.law]
+
+    def fit_from(train, nominal, m, free, noise_m, theta, max_nfev):
+        seen.append((m.law, float(theta[0])))
+        return FitResult(free, m, m.values(), 0.0, 0)
+
+    monkeypatch.setattr(PL, "first_stage", first_stage)
+    monkeypatch.setattr(PL, "fit_from", fit_from)
+    monkeypatch.setattr(PL, "evaluate", lambda val, model, noise: Evaluation(0, 0, 1, 1))
+    starts = [(Model(NOMINAL, law=law), Free((), ("base_compliance",)), True) for law in LAWS]
+    f, _ = PL._fit_under_best_law([], [], NOMINAL, starts, 2e-9)
+    assert seen == [("lugre", 3e5)]  # the second stage from LuGre's first-stage point only
+    assert f.model.law == "lugre" and f.first_stage_costs == costs
+
+
+def _with_costs(law: str, costs: dict[str, float]) -> Candidate:
+    m = Model(NOMINAL, Effects(base_mass_kg=0.02, base_freq_hz=3e3), law=law)
+    f = FitResult(Free((), ("base_compliance",)), m, m.values(), 0.0, 0, first_stage_costs=costs)
+    return Candidate(f, Evaluation(0, 0, 1, 1), 0.0)
+
+
+def test_the_law_is_not_chosen_again_only_when_the_first_stages_were_clear():
+    assert PL._law_chosen_with_it(_with_costs("lugre", {"ls": 5e6, "lugre": 3e5, "gms": 2e7}))
+    # within 10 x of another law: the validation and the left-out families decide again
+    assert not PL._law_chosen_with_it(_with_costs("lugre", {"ls": 2e6, "lugre": 3e5, "gms": 2e7}))
+    # not fitted under each law (any other cause)
+    assert not PL._law_chosen_with_it(_with_costs("lugre", {}))
+
+
+def test_the_screen_keeps_each_law_s_best_probe_at_nominal():
+    # three rows, the last held out; two probe points; per law the point with the smaller
+    # per-cycle error on the held-out row is kept, whichever law screened best overall
+    lin = Linearization(np.array([1.0, 1.0, 1.0]), np.zeros((3, 0)), np.array([0, 0, 1]))
+    points = [{"base_freq_hz": 2e3}, {"base_freq_hz": 5e3}]
+    probes = [np.array([1.0, 1.0, 1.0]), np.array([1.0, 1.0, 1.0])]
+    nominal = {
+        "ls": [np.array([0, 0, 0.5]), np.array([0, 0, 0.1])],
+        "lugre": [np.array([0, 0, 0.2]), np.array([0, 0, 0.9])],
+    }
+    x = screen(lin, [1], "base_compliance", points, probes, nominal, np.array([1.0, 1.0, 1.0]))
+    assert x.nominal_points == {"ls": points[1], "lugre": points[0]}
+    assert x.from_nominal and x.law == "ls" and x.values == points[1]
