@@ -493,40 +493,35 @@ class _Session:
         batch, self.pending[id(parent)] = worth[:TOP_FIT], (parent, worth[TOP_FIT:])
         futs = []
         for x in batch:
-            m, start, grid = parent.fit.model, start_values(x), False
+            m = parent.fit.model
             if not parent.causes and x.cause in FIT_FROM_NOMINAL:
-                # from the nominal parameters, under the law whose first stage fits best: a
-                # missing base resonance bends the calibration's choice of law, and the screen's
-                # (own generator seed 103, an LS contact: the base probed best under LuGre and was
-                # fitted there to 669 nm; under LS it reaches the 2 nm noise). Under each law from
-                # the screen's best probe of it at nominal when a probe at nominal screened best,
-                # else from the best of the cause's grid: the screen's probes on the calibrated
-                # model point at the wrong frequency (base at 3.3 kHz, seed 101: 1.3 kHz)
-                starts = []
-                for law in self.laws:
-                    mn = self.at_nominal(replace(m, law=law))
-                    probe = x.nominal_points.get(law) if x.from_nominal else None
-                    if probe is not None:
-                        mn = replace(mn, effects=replace(mn.effects, **probe))
-                    starts.append((mn, Free(self.free_base[law], (x.cause,)), probe is None))
-                futs.append(
-                    self.ex.submit(
-                        _fit_under_best_law,
-                        self.train,
-                        self.val,
-                        self.nominal,
-                        starts,
-                        self.noise_m,
-                        FIT_NFEV,
-                    )
-                )
+                futs.append(self.submit_under_best_law(x, m))
                 continue
             if x.from_nominal:
                 m = self.at_nominal(replace(m, law=x.law))
-            fx = replace(m.effects, **start)
+            fx = replace(m.effects, **start_values(x))
             free = Free(self.free_base[m.law], (*parent.causes, x.cause))
-            futs.append(self.submit_fit(replace(m, effects=fx), free, grid=grid))
+            futs.append(self.submit_fit(replace(m, effects=fx), free, grid=False))
         return [self.cand(*_fv(fu), parent=parent) for fu in futs]
+
+    def submit_under_best_law(self, x: Screened, m: Model) -> Future:
+        """A first-round cause fitted from the nominal parameters (catalog.FIT_FROM_NOMINAL),
+        under the law whose first stage fits best: a missing base resonance bends the
+        calibration's choice of law, and the screen's (own generator seed 103, an LS contact: the
+        base probed best under LuGre and was fitted there to 669 nm; under LS it reaches the 2 nm
+        noise). Under each law from the screen's best probe of it at nominal when a probe at
+        nominal screened best, else from the best of the cause's grid: the screen's probes on the
+        calibrated model point at the wrong frequency (base at 3.3 kHz, seed 101: 1.3 kHz)."""
+        starts = []
+        for law in self.laws:
+            mn = self.at_nominal(replace(m, law=law))
+            probe = x.nominal_points.get(law) if x.from_nominal else None
+            if probe is not None:
+                mn = replace(mn, effects=replace(mn.effects, **probe))
+            starts.append((mn, Free(self.free_base[law], (x.cause,)), probe is None))
+        return self.ex.submit(
+            _fit_under_best_law, self.train, self.val, self.nominal, starts, self.noise_m, FIT_NFEV
+        )
 
     def at_nominal(self, m: Model) -> Model:
         """The model with its law's base parameters back at their nominal values."""
