@@ -7,7 +7,8 @@ can be compared with another line by line; the answers are diagnosis_bench.py's.
     PYTHONPATH=hil:bench .venv/bin/python bench/diagnosis_cost.py --generator independent \\
         --cases piezo_hysteresis base_compliance --seeds 2 --out ind.jsonl
 
-Datasets are generated into --data and kept (a second run skips the generation).
+Datasets are generated into --data and kept (a second run skips the generation; the own
+generator's only while the C library is the same).
 """
 
 from __future__ import annotations

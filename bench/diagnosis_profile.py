@@ -6,24 +6,31 @@ validation error and the guards' verdict. Figures in BENCHMARKS.md.
     PYTHONPATH=hil .venv/bin/python bench/diagnosis_profile.py own:base_compliance 101
 
 CASE is a case of diagnosis_bench.py's independent table (at --rate-hz, 250 kS/s by default), or
-own:CASE for its own-generator table. The dataset is generated into --data (kept: a second run
-skips the generation).
+own:CASE for its own-generator table. The dataset is generated into --data and kept: a second run
+skips the generation (for the own generator's data, only while the C library is the same).
 """
 
 from __future__ import annotations
 
 import argparse
 import collections
+import hashlib
 import sys
 import time
 from pathlib import Path
 
 import diagnosis_bench as B
 
+from stickslip import _native as N
 from stickslip import dataset as D
 from stickslip.diagnosis import fit as F
 from stickslip.diagnosis import pipeline as PL
 from stickslip.diagnosis.guards import share_removed
+
+
+def library_stamp() -> str:
+    """The first hex digits of the loaded C library's SHA-256."""
+    return hashlib.sha256(Path(N.lib._name).read_bytes()).hexdigest()[:12]
 
 
 def dataset(case: str, seed: int, rate_hz: float, data: Path) -> Path:
@@ -31,7 +38,9 @@ def dataset(case: str, seed: int, rate_hz: float, data: Path) -> Path:
     if case.startswith("own:"):
         name = case[4:]
         causes, kw = {n: (c, k) for n, c, k in B.OWN_CASES}[name]
-        path = data / f"own_{name}_{seed}"
+        # the own generator is the C model: data made before a change of the model's physics
+        # is not that model's data any more (the stack-damper fix moved every base dataset)
+        path = data / f"own_{name}_{seed}_{library_stamp()}"
         if not path.exists():
             B.make_own(data, f"own_{name}_{seed}_", causes, kw, seed).rename(path)
         return path
