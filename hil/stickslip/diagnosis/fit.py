@@ -716,7 +716,8 @@ def fit_from(
     max_nfev: int = 30,
 ) -> FitResult:
     """fit()'s second stage from a first stage's point (first_stage with the same start, free
-    and max_nfev): together they are fit(), bit for bit."""
+    and max_nfev): together they are fit(), bit for bit, but for the result's nfev, which counts
+    the second stage's simulations only."""
     return _Problem(runs, nominal, start, free, noise_m).second_stage(
         theta, second_stage_nfev(max_nfev)
     )
