@@ -46,8 +46,8 @@ int main(void)
     ok = ok && ss_ls_init_q(&fr, &ls) == SS_OK && ss_lugre_init_q(&fr, &lg) == SS_OK;
     ok = ok && ss_ls_run_q(&fr, &ls, dx, 4u, cfg.dt_q40, f) == SS_OK;
     ok = ok && ss_lugre_run_q(&fr, &lg, dx, 4u, cfg.dt_q40, f) == SS_OK;
-    ss_ls_advance_q(&fr, &ls, 10, cfg.dt_q40);
-    ss_lugre_advance_q(&fr, &lg, 10, cfg.dt_q40);
+    ss_ls_advance_q(&fr, &ls, 10, cfg.inv_dt_q47);
+    ss_lugre_advance_q(&fr, &lg, 10, cfg.inv_dt_q47);
     sink = ss_ls_step_q(&fr, &ls, 5, cfg.dt_q40) + ss_lugre_step_q(&fr, &lg, 5, cfg.dt_q40) +
            ss_ls_force_at_q(&fr, &ls, 7, NULL) + ss_lugre_force_at_q(&fr, &lg, 7, NULL);
 

@@ -194,7 +194,7 @@ class ActuatorConfigQ(C.Structure):
         ("kick_slider_q40", C.c_int32),
         ("phi_q28", C.c_int32 * 4),
         ("friction", FrictionConfigQ),
-        ("pad", C.c_int32),
+        ("inv_dt_q47", C.c_int32),
         ("effects", EffectsConfigQ),
     ]
 

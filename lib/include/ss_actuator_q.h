@@ -19,7 +19,7 @@
 #define SS_FRICTION_Q_LUGRE 1
 
 typedef struct {
-    int32_t dt_q40;         /* fixed step, s at 2^-40: [1100 (1.0 ns), 2^31) */
+    int32_t dt_q40;         /* fixed step, s at 2^-40: (2^16 (0.06 us), 2^31 (1.95 ms)) */
     int32_t piezo_gain_q48; /* ideal strain per volt, m/V at 2^-48: nonzero, |gain| < 7.6 um/V */
     int32_t friction_model; /* SS_FRICTION_Q_LS or SS_FRICTION_Q_LUGRE */
     int32_t lag_q24; /* c / (k dt): forced-response lag of the rod per strain increment, Q8.24 [0, 128) */
@@ -29,7 +29,9 @@ typedef struct {
      * {phi00, phi01 / dt, phi10 dt, phi11} of the float family's phi, dimensionless, Q4.28 */
     int32_t phi_q28[4];
     ss_friction_config_q_t friction;
-    int32_t pad; /* zero: the effects (with an int64) start 8-byte aligned on every target */
+    /* 2^47 / dt_q40 rounded: 1/dt in 1/s at 2^-7, so the step multiplies where it divided by dt;
+     * [2^16, 2^31). Where it sits, the effects (with an int64) start 8-byte aligned on every target */
+    int32_t inv_dt_q47;
     ss_effects_config_q_t effects; /* load, slew limit, sensor scale; zeroed = off */
 } ss_actuator_config_q_t;
 
@@ -57,6 +59,9 @@ typedef struct {
 /* Table I (LS friction, gain 44 nm/V, dt 1 us) as integer constants: exactly what
  * ss_actuator_config_to_q makes of ss_actuator_config_table1_f32() (checked by a test). */
 ss_actuator_config_q_t ss_actuator_config_table1_q(void);
+
+/* 2^47 / dt_q40 rounded (inv_dt_q47 of the config), 0 for a step outside dt_q40's range. */
+int32_t ss_actuator_inv_dt_q47(int32_t dt_q40);
 
 /* SS_OK or the first problem with cfg; *bad_field (when not NULL) names the field, e.g. "dt_q40"
  * or "friction.fc_q24". The rod flow matrix is not checked (it can only be computed on the host). */

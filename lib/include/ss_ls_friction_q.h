@@ -30,11 +30,15 @@ typedef struct {
 
 ss_status_t ss_ls_init_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st);
 
-/* Advance by dx (m at 2^-40) taken in dt (s at 2^-40, > 0), return the force (N at 2^-24). */
+/* Advance by dx (m at 2^-40) taken in dt (s at 2^-40, in (2^16, 2^31): 0.06 us to 1.95 ms), return
+ * the force (N at 2^-24); a step outside that range changes nothing. */
 int32_t ss_ls_step_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int32_t dx_q40, int32_t dt_q40);
 
-/* Advance the state without computing a force; dt_q40 <= 0 changes nothing. */
-void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int32_t dx_q40, int32_t dt_q40);
+/* Advance the state without computing a force, the step given by its reciprocal 2^47 / dt_q40
+ * (1/s at 2^-7: the actuator config's inv_dt_q47), so that no division by dt is left in the step;
+ * inv_dt_q47 <= 0 changes nothing. */
+void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int32_t dx_q40,
+                     int32_t inv_dt_q47);
 
 /* Force at the current state for relative velocity v (m/s at 2^-28), N at 2^-24, and its slope
  * dF/dv (N s/m in Q16.16) in *dfdv_q16 when not NULL. */

@@ -12,6 +12,7 @@ ss_actuator_config_q_t ss_actuator_config_table1_q(void)
     /* ss_actuator_config_to_q(ss_actuator_config_table1_f32()), rounded in double on the host */
     ss_actuator_config_q_t cfg;
     cfg.dt_q40 = 1099512;          /* 1 us (1.00000034 us) */
+    cfg.inv_dt_q47 = 127999957;    /* 2^47 / 1099512 */
     cfg.piezo_gain_q48 = 12384899; /* 44 nm/V */
     cfg.friction_model = SS_FRICTION_Q_LS;
     cfg.lag_q24 = 500090;           /* 6.2 / (2.08e8 x 1 us) = 0.0298 */
@@ -23,8 +24,12 @@ ss_actuator_config_q_t ss_actuator_config_table1_q(void)
     cfg.phi_q28[3] = 242038569;
     cfg.friction = ss_friction_config_table1_q();
     cfg.effects = ss_effects_config_none_q();
-    cfg.pad = 0;
     return cfg;
+}
+
+int32_t ss_actuator_inv_dt_q47(int32_t dt_q40)
+{
+    return ss_inv_dt_q47(dt_q40);
 }
 
 ss_status_t ss_actuator_config_check_q(const ss_actuator_config_q_t *cfg, const char **bad_field)
@@ -36,8 +41,10 @@ ss_status_t ss_actuator_config_check_q(const ss_actuator_config_q_t *cfg, const 
         *bad = "config";
         return SS_ERR_NULL;
     }
-    if (cfg->dt_q40 < 1100) {
+    if (cfg->dt_q40 <= SS_Q_DT_MIN_Q40) {
         *bad = "dt_q40";
+    } else if (cfg->inv_dt_q47 != ss_actuator_inv_dt_q47(cfg->dt_q40)) {
+        *bad = "inv_dt_q47"; /* not 2^47 / dt_q40 */
     } else if (cfg->piezo_gain_q48 == 0) {
         *bad = "piezo_gain_q48";
     } else if (cfg->friction_model != SS_FRICTION_Q_LS && cfg->friction_model != SS_FRICTION_Q_LUGRE) {
@@ -190,8 +197,8 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     if (cfg == NULL || st == NULL) {
         return SS_ERR_NULL;
     }
-    if (cfg->dt_q40 <= 0) {
-        return SS_ERR_RANGE; /* cfg did not pass init: never divide by it */
+    if (cfg->inv_dt_q47 <= 0) {
+        return SS_ERR_RANGE; /* cfg did not pass init */
     }
     const int64_t dt = cfg->dt_q40;
     kick(cfg, st);
@@ -210,7 +217,8 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     const int64_t a0 = (int64_t)st->x_p_q40 + st->x_base_q40;
     const int64_t a1 = (int64_t)x_p1 + x_b1;
     const int64_t dxp = ss_sat32(a1 - a0);
-    const int64_t b = ss_sat32(ss_div_round(dxp * ((int64_t)1 << SS_QF_DXDT), dt)); /* m/s at 2^-28 */
+    /* b = dxp / dt, m/s at 2^-28: m at 2^-40 times 1/s at 2^-7 is m/s at 2^-47 */
+    const int64_t b = ss_sat32(ss_shr_round(dxp * cfg->inv_dt_q47, 47 - SS_QF_DXDT));
     /* c (b - v_b) / k, m at 2^-40: from the strain's change (the anchor's, without a base) */
     const int64_t lag =
         ss_shr_round((int64_t)cfg->lag_q24 * ss_sat32((int64_t)x_p1 - st->x_p_q40), SS_QF_LAG);
@@ -220,7 +228,8 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     /* e1 = phi00 e0 + (phi01/dt) (e0' dt);  e1' = (phi10 dt) e0 / dt + phi11 e0' */
     const int64_t w = ss_sat32(ss_shr_round(phi[1] * ed0, 28)); /* m/s at 2^-28 */
     const int64_t e1 = ss_shr_round(phi[0] * e0, 28) + ss_shr_round(w * dt, 28);
-    const int64_t ed1 = ss_div_round(phi[2] * e0, dt) + ss_shr_round(phi[3] * ed0, 28);
+    const int64_t ed1 =
+        ss_mul_shr_round_wide(phi[2] * e0, cfg->inv_dt_q47, 47) + ss_shr_round(phi[3] * ed0, 28);
     const int32_t x_rod1 = ss_sat32(a1 - lag + e1);
     const int32_t dx_slider = ss_sat32(ss_shr_round((int64_t)st->v_slider_q28 * dt, 28));
     const int32_t dx_rel = ss_sat32((int64_t)x_rod1 - st->x_rod_q40 - dx_slider);
@@ -241,10 +250,10 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     int32_t dfdv = 0;
     int32_t f_free;
     if (cfg->friction_model == SS_FRICTION_Q_LUGRE) {
-        ss_lugre_advance_q(&cfg->friction, &st->fr.lugre, dx_rel, cfg->dt_q40);
+        ss_lugre_advance_q(&cfg->friction, &st->fr.lugre, dx_rel, cfg->inv_dt_q47);
         f_free = ss_lugre_force_at_q(&cfg->friction, &st->fr.lugre, v_free, &dfdv);
     } else {
-        ss_ls_advance_q(&cfg->friction, &st->fr.ls, dx_rel, cfg->dt_q40);
+        ss_ls_advance_q(&cfg->friction, &st->fr.ls, dx_rel, cfg->inv_dt_q47);
         f_free = ss_ls_force_at_q(&cfg->friction, &st->fr.ls, v_free, &dfdv);
     }
     /* N s/m in Q16 times (m/s)/N at 2^-40 is 2^-56: to Q30 */

@@ -144,11 +144,12 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
     const double i32max = 2147483647.0;
     int64_t v = 0;
     /* everything below uses the step the q family actually takes, dt_q40 2^-40 s */
-    if (!to_int((double)in->dt_s * SS_QF_ONE(SS_QF_TIME), 1100.0, i32max, &v)) {
+    if (!to_int((double)in->dt_s * SS_QF_ONE(SS_QF_TIME), 65537.0, i32max, &v)) {
         *bad = "dt_s";
         return SS_ERR_RANGE;
     }
     out->dt_q40 = (int32_t)v;
+    out->inv_dt_q47 = ss_actuator_inv_dt_q47(out->dt_q40);
     const double dt = (double)v * SS_Q40_M;
     if (!to_int((double)in->piezo_gain_m_per_v * SS_QF_ONE(SS_QF_GAIN), -i32max, i32max, &v) || v == 0) {
         *bad = "piezo_gain_m_per_v";
@@ -183,7 +184,6 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
         out->phi_q28[i] = (int32_t)v;
     }
     out->friction_model = in->friction_model;
-    out->pad = 0;
     out->effects = ss_effects_config_none_q(); /* filled below where the float config asks */
     /* effects: the load in N at 2^-24, the slew as volts per step at 2^-24 (of the step taken),
      * the sensor's scale error in Q2.30; 0 stays 0 (off) */

@@ -19,6 +19,16 @@ static inline int64_t ss_shr_round(int64_t v, int s)
     return -((-(v + half) + (((int64_t)1 << s) - 1)) >> s);
 }
 
+/* round(a b / 2^s) for |a| < 2^62, |b| < 2^31, 32 <= s < 63, in two 32 x 32 products (a b needs 93
+ * bits): a's low 31 bits times b are rounded to 2^-31 first, so the result can be 1 off the exact
+ * rounding. The q step's divisions by a constant go through it with a reciprocal. */
+static inline int64_t ss_mul_shr_round_wide(int64_t a, int32_t b, int s)
+{
+    const int64_t hi = a >> 31; /* floor: hi 2^31 + lo == a, lo in [0, 2^31) */
+    const int64_t lo = a - hi * ((int64_t)1 << 31);
+    return ss_shr_round(hi * b + ss_shr_round(lo * b, 31), s - 31);
+}
+
 /* n / d rounded to nearest (ties away from zero), d > 0, |n| < 2^62. */
 static inline int64_t ss_div_round(int64_t n, int64_t d)
 {
@@ -51,6 +61,27 @@ static inline uint64_t ss_ratio_x65536(uint64_t num, uint64_t den)
         return (uint64_t)1 << 63;
     }
     return (q << 16) + (((num % den) << 16) + den / 2) / den;
+}
+
+/* The shortest step the q family takes, exclusive: 2^47 / dt_q40 then fits 31 bits (the longest,
+ * 2^31 = 1.95 ms, leaves 17). */
+#define SS_Q_DT_MIN_Q40 65536
+
+/* 2^47 / dt_q40 rounded: 1/dt in 1/s at 2^-7, the step's reciprocal; 0 for dt_q40 outside
+ * (SS_Q_DT_MIN_Q40, 2^31). */
+static inline int32_t ss_inv_dt_q47(int32_t dt_q40)
+{
+    if (dt_q40 <= SS_Q_DT_MIN_Q40) {
+        return 0;
+    }
+    return (int32_t)((((int64_t)1 << 47) + dt_q40 / 2) / dt_q40);
+}
+
+/* dx / dt in m/s at 2^-28 (saturated) from dx in m at 2^-40 and 1/dt in 1/s at 2^-7. */
+static inline int32_t ss_velocity_q28(int64_t dx_q40, int32_t inv_dt_q47)
+{
+    const int64_t v = ss_shr_round(ss_clamp64(dx_q40, -INT32_MAX, INT32_MAX) * inv_dt_q47, 19);
+    return (int32_t)ss_clamp64(v, -INT32_MAX, INT32_MAX);
 }
 
 #endif /* SS_FIXED_OPS_H */

@@ -115,9 +115,10 @@ static void rebase(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
     }
 }
 
-void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int32_t dx_q40, int32_t dt_q40)
+void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int32_t dx_q40,
+                     int32_t inv_dt_q47)
 {
-    if (dt_q40 <= 0) {
+    if (inv_dt_q47 <= 0) {
         return;
     }
     const int32_t fm_old = st->fm_q24;
@@ -146,7 +147,7 @@ void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
         return; /* no gross slip: the level keeps its value (exp(0) = 1) */
     }
     /* LuGre in the slip, exact for a slip velocity frozen over the step */
-    const int32_t v_slip = ss_sat32(ss_div_round(slip * ((int64_t)1 << SS_QF_DXDT), dt_q40));
+    const int32_t v_slip = ss_velocity_q28(slip, inv_dt_q47);
     const int64_t g = ss_stribeck_q(cfg, v_slip);
     const int64_t decay = ss_exp_neg_q32_q30(exponent_q32(cfg, slip, g));
     st->level_q24 = (int32_t)(g + ss_shr_round(((int64_t)st->level_q24 - g) * decay, 30));
@@ -154,11 +155,12 @@ void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
 
 int32_t ss_ls_step_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int32_t dx_q40, int32_t dt_q40)
 {
-    if (dt_q40 <= 0) {
+    const int32_t inv_dt = ss_inv_dt_q47(dt_q40);
+    if (inv_dt == 0) {
         return st->force_q24;
     }
-    ss_ls_advance_q(cfg, st, dx_q40, dt_q40);
-    const int32_t v = ss_sat32(ss_div_round((int64_t)dx_q40 * ((int64_t)1 << SS_QF_DXDT), dt_q40));
+    ss_ls_advance_q(cfg, st, dx_q40, inv_dt);
+    const int32_t v = ss_velocity_q28(dx_q40, inv_dt);
     st->force_q24 = ss_ls_force_at_q(cfg, st, v, NULL);
     return st->force_q24;
 }
@@ -197,7 +199,7 @@ ss_status_t ss_ls_run_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, 
     if (cfg == NULL || st == NULL || (n > 0u && (dx_q40 == NULL || force_q24 == NULL))) {
         return SS_ERR_NULL;
     }
-    if (dt_q40 <= 0) {
+    if (ss_inv_dt_q47(dt_q40) == 0) {
         return SS_ERR_RANGE;
     }
     for (uint32_t i = 0; i < n; ++i) {

@@ -23,11 +23,6 @@ ss_status_t ss_lugre_init_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_
     return SS_OK;
 }
 
-static int32_t velocity_q28(int32_t dx_q40, int32_t dt_q40)
-{
-    return ss_sat32(ss_div_round((int64_t)dx_q40 * ((int64_t)1 << SS_QF_DXDT), dt_q40));
-}
-
 /* sigma0 z / g in Q30 (z in m at 2^-40, g in N at 2^-24: sigma0 z is N at 2^-40). */
 static int64_t bristle_ratio_q30(const ss_friction_config_q_t *cfg, const ss_lugre_state_q_t *st, int64_t g)
 {
@@ -37,13 +32,13 @@ static int64_t bristle_ratio_q30(const ss_friction_config_q_t *cfg, const ss_lug
 }
 
 void ss_lugre_advance_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, int32_t dx_q40,
-                        int32_t dt_q40)
+                        int32_t inv_dt_q47)
 {
-    if (dt_q40 <= 0 || dx_q40 == 0) {
+    if (inv_dt_q47 <= 0 || dx_q40 == 0) {
         return;
     }
     /* z relaxes to sgn(v) g / sigma0 over the distance g / sigma0: exact for v frozen over the step */
-    const int32_t v = velocity_q28(dx_q40, dt_q40);
+    const int32_t v = ss_velocity_q28(dx_q40, inv_dt_q47);
     const int64_t g = ss_stribeck_q(cfg, v);
     const int64_t z_ss =
         ss_sign32(dx_q40) * ss_div_round(g * ((int64_t)1 << SS_QF_F_OVER_K), cfg->sigma0_n_per_m);
@@ -56,11 +51,12 @@ void ss_lugre_advance_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *s
 int32_t ss_lugre_step_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, int32_t dx_q40,
                         int32_t dt_q40)
 {
-    if (dt_q40 <= 0) {
+    const int32_t inv_dt = ss_inv_dt_q47(dt_q40);
+    if (inv_dt == 0) {
         return st->force_q24;
     }
-    ss_lugre_advance_q(cfg, st, dx_q40, dt_q40);
-    const int32_t v = velocity_q28(dx_q40, dt_q40);
+    ss_lugre_advance_q(cfg, st, dx_q40, inv_dt);
+    const int32_t v = ss_velocity_q28(dx_q40, inv_dt);
     const int64_t k = bristle_ratio_q30(cfg, st, ss_stribeck_q(cfg, v));
     st->zdot_q28 = ss_sat32(v - ss_shr_round(ss_abs64(v) * k, 30));
     st->force_q24 = ss_lugre_force_at_q(cfg, st, v, NULL);
@@ -97,7 +93,7 @@ ss_status_t ss_lugre_run_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t
     if (cfg == NULL || st == NULL || (n > 0u && (dx_q40 == NULL || force_q24 == NULL))) {
         return SS_ERR_NULL;
     }
-    if (dt_q40 <= 0) {
+    if (ss_inv_dt_q47(dt_q40) == 0) {
         return SS_ERR_RANGE;
     }
     for (uint32_t i = 0; i < n; ++i) {

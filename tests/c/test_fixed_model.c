@@ -134,6 +134,22 @@ static void test_converter_names_bad_fields(void **unused)
     assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "kick_slider_q40");
     assert_int_equal(ss_actuator_config_check_q(NULL, &bad), SS_ERR_NULL);
+    /* the step's reciprocal must be the step's, and the step long enough for it to fit 31 bits */
+    t = ss_actuator_config_table1_q();
+    t.inv_dt_q47 += 1;
+    assert_int_equal(ss_actuator_init_q(&t, &st, 0), SS_ERR_RANGE);
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "inv_dt_q47");
+    t.dt_q40 = 65536; /* 0.0596 us: 2^47 / dt_q40 would be 2^31 */
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "dt_q40");
+    assert_int_equal(ss_actuator_inv_dt_q47(65536), 0);
+    assert_int_equal(ss_actuator_inv_dt_q47(65537), 2147450880); /* 2^47 / 65537, rounded */
+    assert_int_equal(ss_actuator_inv_dt_q47(INT32_MAX), 65536);  /* 17 bits at 1.95 ms */
+    c = ok;
+    c.dt_s = 5e-8f; /* within the float range, shorter than the q family's 0.06 us */
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "dt_s");
     /* waveform */
     ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, 3);
     ss_waveform_config_q_t wq;
@@ -183,9 +199,9 @@ static double pair_move(pair_t *p, double x_to, double h, double v)
         }
         p->x += dx;
         const int64_t xq = (int64_t)floor(p->x * Q40 + 0.5);
-        const int32_t dtq = (fabs(dx) < h) ? (int32_t)floor(fabs(dx) / v * Q40 + 0.5) + 1 : dt_q;
-        p->f_f32 = ss_ls_step_f32(&p->cf, &p->sf, (float)dx, (float)(fabs(dx) / v));
-        p->f_q_n = ss_ls_step_q(&p->cq, &p->sq, (int32_t)(xq - p->x_q), dtq) / Q24;
+        /* a last, shorter increment takes a whole step too (the q step is at least 0.06 us) */
+        p->f_f32 = ss_ls_step_f32(&p->cf, &p->sf, (float)dx, (float)(h / v));
+        p->f_q_n = ss_ls_step_q(&p->cq, &p->sq, (int32_t)(xq - p->x_q), dt_q) / Q24;
         p->x_q = xq;
         const double d = fabs(p->f_q_n - (double)p->f_f32);
         worst = d > worst ? d : worst;
