@@ -1,11 +1,15 @@
-"""One catalog cause fitted from the nominal parameters under each friction law, beside each law's
-calibration: how far the law a cause is fitted under decides whether it is found (issue 13;
-BENCHMARKS.md, "Hit rates today": base_compliance seed 103 reaches 742 nm under GMS, the law the
-calibration preferred, and 28.8 nm under LuGre, the generator's). Validation RMS on the runs the
-diagnosis validates on, and the cause's fitted values.
+"""One catalog cause fitted under each friction law, beside each law's calibration: how far the law
+a cause is fitted under decides whether it is found (issue 13; BENCHMARKS.md, "Hit rates today":
+base_compliance seed 103 reaches 742 nm under GMS, the law the calibration preferred, and 28.8 nm
+under LuGre, the generator's), and whether the cause's values agree from law to law (a property
+of the actuator does not depend on the law the contact is read with; BENCHMARKS.md, "A short
+first stage"). Validation RMS on the runs the diagnosis validates on, the share of the law's
+calibrated error the cause removes, and the cause's fitted values.
 
     PYTHONPATH=hil:bench .venv/bin/python bench/cause_under_laws.py \
         base_compliance 103 base_compliance
+    PYTHONPATH=hil:bench .venv/bin/python bench/cause_under_laws.py \
+        null_ls_b 101 piezo_hysteresis --from calibration
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ from diagnosis_profile import fit_inputs
 from stickslip.diagnosis import fit as F
 from stickslip.diagnosis.calibrate import calibrate
 from stickslip.diagnosis.catalog import CAUSES
+from stickslip.diagnosis.guards import share_removed
 from stickslip.diagnosis.pipeline import FIT_NFEV
 from stickslip.diagnosis.screen import probe_points, probe_residual
 
@@ -40,11 +45,19 @@ def main() -> int:
         help="grid: the best of the cause's grid (fit's own); probe: the screen's best probe of "
         "the cause at nominal under the law (per-cycle error on the validation runs)",
     )
+    ap.add_argument(
+        "--from",
+        dest="origin",
+        choices=("nominal", "calibration"),
+        default="nominal",
+        help="the base parameters the fit starts from: nominal (as the diagnosis fits a base "
+        "compliance on its first round) or the law's calibration (as it fits the other causes)",
+    )
     a = ap.parse_args()
     ds, train, val, noise = fit_inputs(a.case, a.seed, a.rate_hz, a.data)
     for law in a.laws:
         cal, _ = calibrate(train, ds.actuator, law, noise)
-        start = F.Model(ds.actuator, law=law)
+        start = F.Model(ds.actuator, law=law) if a.origin == "nominal" else cal.model
         free = F.Free(cal.free.base, (a.cause,))
         grid = a.start == "grid"
         if not grid:
@@ -59,13 +72,16 @@ def main() -> int:
         theta, cost1 = F.first_stage(train, ds.actuator, start, free, noise, FIT_NFEV, grid=grid)
         f = F.fit_from(train, ds.actuator, start, free, noise, theta, FIT_NFEV)
         values = {
-            k.split(".", 1)[1]: round(v, 4) for k, v in f.values.items() if k.startswith(a.cause)
+            k.split(".", 1)[1]: float(f"{v:.4g}")
+            for k, v in f.values.items()
+            if k.startswith(a.cause)
         }
-        rms_cal = F.evaluate(val, cal.model, noise).rmse_m * 1e9
-        rms = F.evaluate(val, f.model, noise).rmse_m * 1e9
+        ev_cal, ev = F.evaluate(val, cal.model, noise), F.evaluate(val, f.model, noise)
+        share = share_removed(ev_cal.mse_over_noise, ev.mse_over_noise)
         print(
-            f"{law:6s} calibrated {rms_cal:8.1f} nm; + {a.cause} from nominal: first stage's "
-            f"per-cycle cost {cost1:.4g}, validation {rms:8.1f} nm",
+            f"{law:6s} calibrated {ev_cal.rmse_m * 1e9:8.1f} nm; + {a.cause} from {a.origin}: "
+            f"first stage's per-cycle cost {cost1:.4g}, validation {ev.rmse_m * 1e9:8.1f} nm "
+            f"({100 * share:.0f} % of the calibration's error above the noise)",
             values,
         )
     return 0
