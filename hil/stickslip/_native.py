@@ -159,6 +159,8 @@ class FrictionConfigQ(C.Structure):
             "sigma1_q16",
             "sigma2_q16",
             "asymmetry_q30",
+            "inv_vs_q45",
+            "inv_sigma0_q47",
         )
     ]
 

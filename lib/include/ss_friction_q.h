@@ -24,16 +24,28 @@
 /* Fs/Fc at most this: the ratio s/g (<= Fs/Fc) times a velocity must fit 64-bit intermediates. */
 #define SS_Q_FS_OVER_FC_MAX 64
 
+/* Shortest Stribeck velocity and softest contact, exclusive, for which the config's reciprocals
+ * (2^45 / vs_q28, 2^47 / sigma0) fit 31 bits: 2^14 at 2^-28 m/s is 61 um/s, 2^16 N/m 65.5 kN/m. */
+#define SS_Q_VS_MIN_Q28 ((int32_t)1 << 14)
+#define SS_Q_SIGMA0_MIN_N_PER_M ((int32_t)1 << 16)
+
 typedef struct {
     int32_t fs_q24;         /* static friction Fs, N at 2^-24: (0, 32 N] */
     int32_t fc_q24;         /* Coulomb friction Fc, N at 2^-24: [Fs/64, Fs] */
-    int32_t vs_q28;         /* Stribeck velocity, m/s at 2^-28: [2^-28, 8) m/s */
-    int32_t sigma0_n_per_m; /* initial contact stiffness, whole N/m: [1, 2^31), 24 Fs/sigma0 <= 0.24 mm */
+    int32_t vs_q28;         /* Stribeck velocity, m/s at 2^-28: (2^14 (61 um/s), 2^31 (8 m/s)) */
+    int32_t sigma0_n_per_m; /* initial contact stiffness, whole N/m: (2^16, 2^31), 24 Fs/sigma0 <= 0.24 mm */
     int32_t sigma1_q16;     /* micro-damping, N s/m in Q16.16: [0, 32768) */
     int32_t sigma2_q16;     /* viscous friction, N s/m in Q16.16: [0, 32768) */
     int32_t asymmetry_q30;  /* asymmetric_friction a, Q2.30 in [-0.9, 0.9]: the contact's elastic and
                                micro-damping force times 1 + a sgn(load) (ss_friction.h); 0 = symmetric */
+    /* Reciprocals, so that the step multiplies where it divided (ss_friction_config_reciprocals_q
+     * fills them; the check refuses a config whose reciprocals are not its own): */
+    int32_t inv_vs_q45;     /* 2^45 / vs_q28 rounded: 1/vs in s/m at 2^-17 */
+    int32_t inv_sigma0_q47; /* 2^47 / sigma0_n_per_m rounded: 1/sigma0 in m/N at 2^-47 */
 } ss_friction_config_q_t;
+
+/* Fill cfg's reciprocals from its vs_q28 and sigma0_n_per_m (0 where these are out of range). */
+void ss_friction_config_reciprocals_q(ss_friction_config_q_t *cfg);
 
 /* Table I of the LS paper as integer constants (no float anywhere): what ss_friction_config_to_q
  * makes of ss_friction_config_table1_f32() (tests/c/test_fixed_model.c checks it bit for bit). */

@@ -33,8 +33,8 @@ static ss_status_t friction_to_q(const ss_friction_config_f32_t *in, int prefixe
     const int ok[6] = {
         to_int((double)in->fs_n * SS_QF_ONE(SS_QF_FORCE), 1.0, (double)SS_Q_FS_MAX_Q24, &v[0]),
         to_int((double)in->fc_n * SS_QF_ONE(SS_QF_FORCE), 1.0, i32max, &v[1]),
-        to_int((double)in->vs_m_per_s * SS_QF_ONE(SS_QF_VELOCITY), 1.0, i32max, &v[2]),
-        to_int((double)in->sigma0_n_per_m, 1.0, i32max, &v[3]),
+        to_int((double)in->vs_m_per_s * SS_QF_ONE(SS_QF_VELOCITY), SS_Q_VS_MIN_Q28 + 1.0, i32max, &v[2]),
+        to_int((double)in->sigma0_n_per_m, SS_Q_SIGMA0_MIN_N_PER_M + 1.0, i32max, &v[3]),
         to_int((double)in->sigma1_ns_per_m * SS_QF_ONE(SS_QF_DAMPING), 0.0, i32max, &v[4]),
         to_int((double)in->sigma2_ns_per_m * SS_QF_ONE(SS_QF_DAMPING), 0.0, i32max, &v[5]),
     };
@@ -52,6 +52,7 @@ static ss_status_t friction_to_q(const ss_friction_config_f32_t *in, int prefixe
     out->sigma0_n_per_m = (int32_t)v[3];
     out->sigma1_q16 = (int32_t)v[4];
     out->sigma2_q16 = (int32_t)v[5];
+    ss_friction_config_reciprocals_q(out);
     /* the q family's own limits (ss_friction_q.h), named by the float field */
     if ((int64_t)out->fc_q24 * SS_Q_FS_OVER_FC_MAX < out->fs_q24) {
         *bad = names[1];

@@ -18,13 +18,32 @@ ss_friction_config_q_t ss_friction_config_table1_q(void)
     cfg.sigma1_q16 = 5242880; /* 80 N s/m */
     cfg.sigma2_q16 = 524288;  /* 8 N s/m */
     cfg.asymmetry_q30 = 0;
+    cfg.inv_vs_q45 = 327680557;    /* 2^45 / 107374 */
+    cfg.inv_sigma0_q47 = 14073749; /* 2^47 / 1e7 */
     return cfg;
 }
 
-static const char *const FIELD_NAMES_Q[2][7] = {
-    {"fs_q24", "fc_q24", "vs_q28", "sigma0_n_per_m", "sigma1_q16", "sigma2_q16", "asymmetry_q30"},
+/* round(2^s / d) for d > lo, else 0 (d <= lo would not fit 31 bits) */
+static int32_t reciprocal(int32_t d, int32_t lo, int s)
+{
+    if (d <= lo) {
+        return 0;
+    }
+    return (int32_t)((((int64_t)1 << s) + d / 2) / d);
+}
+
+void ss_friction_config_reciprocals_q(ss_friction_config_q_t *cfg)
+{
+    cfg->inv_vs_q45 = reciprocal(cfg->vs_q28, SS_Q_VS_MIN_Q28, 45);
+    cfg->inv_sigma0_q47 = reciprocal(cfg->sigma0_n_per_m, SS_Q_SIGMA0_MIN_N_PER_M, 47);
+}
+
+static const char *const FIELD_NAMES_Q[2][9] = {
+    {"fs_q24", "fc_q24", "vs_q28", "sigma0_n_per_m", "sigma1_q16", "sigma2_q16", "asymmetry_q30",
+     "inv_vs_q45", "inv_sigma0_q47"},
     {"friction.fs_q24", "friction.fc_q24", "friction.vs_q28", "friction.sigma0_n_per_m",
-     "friction.sigma1_q16", "friction.sigma2_q16", "friction.asymmetry_q30"},
+     "friction.sigma1_q16", "friction.sigma2_q16", "friction.asymmetry_q30", "friction.inv_vs_q45",
+     "friction.inv_sigma0_q47"},
 };
 
 ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, int prefixed,
@@ -41,10 +60,11 @@ ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, 
         bad = 0;
     } else if (cfg->fc_q24 > cfg->fs_q24 || (int64_t)cfg->fc_q24 * SS_Q_FS_OVER_FC_MAX < cfg->fs_q24) {
         bad = 1; /* Fc above Fs would make the Stribeck curve rise; s/g <= Fs/Fc must fit */
-    } else if (cfg->vs_q28 <= 0) {
+    } else if (cfg->vs_q28 <= SS_Q_VS_MIN_Q28) {
         bad = 2;
-    } else if (cfg->sigma0_n_per_m <= 0 || (int64_t)24 * cfg->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) >
-                                               SS_Q_SAT_LENGTH_MAX_Q40 * cfg->sigma0_n_per_m) {
+    } else if (cfg->sigma0_n_per_m <= SS_Q_SIGMA0_MIN_N_PER_M ||
+               (int64_t)24 * cfg->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) >
+                   SS_Q_SAT_LENGTH_MAX_Q40 * cfg->sigma0_n_per_m) {
         bad = 3; /* the presliding length must fit the element's local frame */
     } else if (cfg->sigma1_q16 < 0) {
         bad = 4;
@@ -52,6 +72,10 @@ ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, 
         bad = 5;
     } else if (cfg->asymmetry_q30 < -SS_Q_ASYMMETRY_MAX_Q30 || cfg->asymmetry_q30 > SS_Q_ASYMMETRY_MAX_Q30) {
         bad = 6;
+    } else if (cfg->inv_vs_q45 != reciprocal(cfg->vs_q28, SS_Q_VS_MIN_Q28, 45)) {
+        bad = 7;
+    } else if (cfg->inv_sigma0_q47 != reciprocal(cfg->sigma0_n_per_m, SS_Q_SIGMA0_MIN_N_PER_M, 47)) {
+        bad = 8;
     }
     if (bad >= 0) {
         *bad_field = names[bad];
@@ -76,10 +100,11 @@ int64_t ss_asymmetric_q(const ss_friction_config_q_t *cfg, int64_t force_q24, in
     return ss_shr_round(force_q24 * factor, 30);
 }
 
-/* r = |v| / vs in Q16.16, clamped where exp(-r^2) is zero anyway. */
+/* r = |v| / vs in Q16.16, clamped where exp(-r^2) is zero anyway: m/s at 2^-28 times s/m at 2^-17
+ * is a pure number at 2^-45. */
 static int64_t stribeck_ratio_q16(const ss_friction_config_q_t *cfg, int32_t v_q28)
 {
-    const int64_t r = ss_div_round(ss_abs64(v_q28) * 65536, cfg->vs_q28);
+    const int64_t r = ss_shr_round(ss_abs64(v_q28) * cfg->inv_vs_q45, 29);
     return (r > SS_Q_STRIBECK_R_MAX_Q16) ? SS_Q_STRIBECK_R_MAX_Q16 : r;
 }
 
@@ -109,9 +134,10 @@ int32_t ss_stribeck_with_slope_q(const ss_friction_config_q_t *cfg, int32_t v_q2
     const int64_t r = stribeck_ratio_q16(cfg, v_q28);
     const int64_t e = ss_exp_neg_q32_q30((uint64_t)(r * r));                           /* r^2 in Q32, exact */
     const int64_t excess = ss_shr_round((int64_t)(cfg->fs_q24 - cfg->fc_q24) * e, 30); /* N at 2^-24 */
-    /* slope: (Fs - Fc) r e, then 2 x that / vs: N/(m/s) at 2^-16 is x 2^20 / vs_q28 */
+    /* slope: (Fs - Fc) r e, then 2 x that / vs: N at 2^-24 times s/m at 2^-17, x 2 is N s/m at
+     * 2^-40, to 2^-16. fre <= 0.43 (Fs - Fc) < 2^28 (the largest r e^-r^2): the product fits */
     const int64_t fre = ss_shr_round(excess * r, 16);
-    const int64_t slope = ss_div_round(fre * 2 * ((int64_t)1 << 20), cfg->vs_q28);
+    const int64_t slope = ss_shr_round(fre * cfg->inv_vs_q45, 24);
     *slope_q16 = ss_sat32((v_q28 > 0) ? -slope : slope);
     return (int32_t)(cfg->fc_q24 + excess);
 }

@@ -133,9 +133,10 @@ void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
         eval_branch(cfg, st);
         rebase(cfg, st);
     }
-    /* elastic-plastic split: dF_M / sigma0 in m at 2^-40 is dF_M [2^-24 N] x 2^16 / sigma0 */
-    int64_t slip = dx_q40 - ss_div_round(((int64_t)st->fm_q24 - fm_old) * ((int64_t)1 << SS_QF_F_OVER_K),
-                                         cfg->sigma0_n_per_m);
+    /* elastic-plastic split: dF_M / sigma0 in m at 2^-40 is dF_M [2^-24 N] times 1/sigma0 [m/N at
+     * 2^-47], to 2^-40; |dF_M| <= 2 Fs < 2^30: the product fits */
+    int64_t slip =
+        dx_q40 - ss_shr_round(((int64_t)st->fm_q24 - fm_old) * cfg->inv_sigma0_q47, 47 - SS_QF_F_OVER_K);
     if ((slip > 0 && dx_q40 < 0) || (slip < 0 && dx_q40 > 0)) {
         slip = 0; /* rounding only: the tangent stiffness never exceeds sigma0 */
     }

@@ -40,8 +40,8 @@ void ss_lugre_advance_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *s
     /* z relaxes to sgn(v) g / sigma0 over the distance g / sigma0: exact for v frozen over the step */
     const int32_t v = ss_velocity_q28(dx_q40, inv_dt_q47);
     const int64_t g = ss_stribeck_q(cfg, v);
-    const int64_t z_ss =
-        ss_sign32(dx_q40) * ss_div_round(g * ((int64_t)1 << SS_QF_F_OVER_K), cfg->sigma0_n_per_m);
+    /* g / sigma0 in m at 2^-40: N at 2^-24 times m/N at 2^-47 is m at 2^-71 */
+    const int64_t z_ss = ss_sign32(dx_q40) * ss_shr_round(g * cfg->inv_sigma0_q47, 47 - SS_QF_F_OVER_K);
     /* exponent sigma0 |dx| / g with 32 fraction bits, as in the LS element */
     const uint64_t num = (uint64_t)cfg->sigma0_n_per_m * (uint64_t)ss_abs64(dx_q40);
     const int64_t decay = ss_exp_neg_q32_q30(ss_ratio_x65536(num, (uint64_t)g));

@@ -150,6 +150,36 @@ static void test_converter_names_bad_fields(void **unused)
     c.dt_s = 5e-8f; /* within the float range, shorter than the q family's 0.06 us */
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "dt_s");
+    /* the friction's reciprocals must be its own, and vs and sigma0 large enough for them to fit */
+    t = ss_actuator_config_table1_q();
+    t.friction.inv_vs_q45 -= 1;
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.inv_vs_q45");
+    t = ss_actuator_config_table1_q();
+    t.friction.inv_sigma0_q47 = 0;
+    assert_int_equal(ss_actuator_init_q(&t, &st, 0), SS_ERR_RANGE);
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.inv_sigma0_q47");
+    t = ss_actuator_config_table1_q();
+    t.friction.vs_q28 = SS_Q_VS_MIN_Q28;
+    ss_friction_config_reciprocals_q(&t.friction);
+    assert_int_equal(t.friction.inv_vs_q45, 0);
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.vs_q28");
+    t.friction.vs_q28 = SS_Q_VS_MIN_Q28 + 1;
+    ss_friction_config_reciprocals_q(&t.friction);
+    assert_int_equal(t.friction.inv_vs_q45, 2147352584); /* 2^45 / (2^14 + 1), rounded: 31 bits */
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_OK);
+    c = ok;
+    c.friction.vs_m_per_s = 5e-5f; /* 50 um/s: below the q family's 61 um/s */
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.vs_m_per_s");
+    c = ok;
+    c.friction.sigma0_n_per_m = 6e4f; /* below the q family's 65.5 kN/m */
+    c.friction.fs_n = 0.01f;          /* (a presliding length the element's frame holds) */
+    c.friction.fc_n = 0.008f;
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.sigma0_n_per_m");
     /* waveform */
     ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, 3);
     ss_waveform_config_q_t wq;
