@@ -9,7 +9,7 @@
 #include "ss_fixed.h"
 
 /* Slider position after two cycles at 2000 Hz, 100 V, rise 0.95, Table I q config (m at 2^-40). */
-#define SS_Q_CHECK_X_SLIDER 9386164LL
+#define SS_Q_CHECK_X_SLIDER 9386156LL
 
 void SysTick_Handler(void);
 void SysTick_Handler(void)

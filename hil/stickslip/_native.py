@@ -161,6 +161,8 @@ class FrictionConfigQ(C.Structure):
             "asymmetry_q30",
             "inv_vs_q45",
             "inv_sigma0_q47",
+            "inv_fs_q48",
+            "sat_length_q40",
         )
     ]
 

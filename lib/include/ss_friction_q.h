@@ -27,10 +27,12 @@
 /* Shortest Stribeck velocity and softest contact, exclusive, for which the config's reciprocals
  * (2^45 / vs_q28, 2^47 / sigma0) fit 31 bits: 2^14 at 2^-28 m/s is 61 um/s, 2^16 N/m 65.5 kN/m. */
 #define SS_Q_VS_MIN_Q28 ((int32_t)1 << 14)
+/* ... and the smallest static friction, exclusive, for 2^48 / fs_q24: 2^17 at 2^-24 N is 7.8 mN. */
+#define SS_Q_FS_MIN_Q24 ((int32_t)1 << 17)
 #define SS_Q_SIGMA0_MIN_N_PER_M ((int32_t)1 << 16)
 
 typedef struct {
-    int32_t fs_q24;         /* static friction Fs, N at 2^-24: (0, 32 N] */
+    int32_t fs_q24;         /* static friction Fs, N at 2^-24: (2^17 (7.8 mN), 32 N] */
     int32_t fc_q24;         /* Coulomb friction Fc, N at 2^-24: [Fs/64, Fs] */
     int32_t vs_q28;         /* Stribeck velocity, m/s at 2^-28: (2^14 (61 um/s), 2^31 (8 m/s)) */
     int32_t sigma0_n_per_m; /* initial contact stiffness, whole N/m: (2^16, 2^31), 24 Fs/sigma0 <= 0.24 mm */
@@ -42,9 +44,12 @@ typedef struct {
      * fills them; the check refuses a config whose reciprocals are not its own): */
     int32_t inv_vs_q45;     /* 2^45 / vs_q28 rounded: 1/vs in s/m at 2^-17 */
     int32_t inv_sigma0_q47; /* 2^47 / sigma0_n_per_m rounded: 1/sigma0 in m/N at 2^-47 */
+    int32_t inv_fs_q48;     /* 2^48 / fs_q24 rounded: 1/Fs in 1/N at 2^-24 */
+    int32_t sat_length_q40; /* 24 Fs / sigma0 (truncated), m at 2^-40: where the LS element re-bases */
 } ss_friction_config_q_t;
 
-/* Fill cfg's reciprocals from its vs_q28 and sigma0_n_per_m (0 where these are out of range). */
+/* Fill cfg's reciprocals and saturation length from its fs_q24, vs_q28 and sigma0_n_per_m (0 where
+ * these are out of range). */
 void ss_friction_config_reciprocals_q(ss_friction_config_q_t *cfg);
 
 /* Table I of the LS paper as integer constants (no float anywhere): what ss_friction_config_to_q

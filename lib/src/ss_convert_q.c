@@ -31,7 +31,8 @@ static ss_status_t friction_to_q(const ss_friction_config_f32_t *in, int prefixe
     const double i32max = 2147483647.0;
     int64_t v[6] = {0, 0, 0, 0, 0, 0};
     const int ok[6] = {
-        to_int((double)in->fs_n * SS_QF_ONE(SS_QF_FORCE), 1.0, (double)SS_Q_FS_MAX_Q24, &v[0]),
+        to_int((double)in->fs_n * SS_QF_ONE(SS_QF_FORCE), SS_Q_FS_MIN_Q24 + 1.0, (double)SS_Q_FS_MAX_Q24,
+               &v[0]),
         to_int((double)in->fc_n * SS_QF_ONE(SS_QF_FORCE), 1.0, i32max, &v[1]),
         to_int((double)in->vs_m_per_s * SS_QF_ONE(SS_QF_VELOCITY), SS_Q_VS_MIN_Q28 + 1.0, i32max, &v[2]),
         to_int((double)in->sigma0_n_per_m, SS_Q_SIGMA0_MIN_N_PER_M + 1.0, i32max, &v[3]),

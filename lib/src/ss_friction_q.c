@@ -20,6 +20,8 @@ ss_friction_config_q_t ss_friction_config_table1_q(void)
     cfg.asymmetry_q30 = 0;
     cfg.inv_vs_q45 = 327680557;    /* 2^45 / 107374 */
     cfg.inv_sigma0_q47 = 14073749; /* 2^47 / 1e7 */
+    cfg.inv_fs_q48 = 4660338;      /* 2^48 / 60397980 */
+    cfg.sat_length_q40 = 9499780;  /* 24 x 3.6 N / 1e7 N/m = 8.64 um */
     return cfg;
 }
 
@@ -32,18 +34,31 @@ static int32_t reciprocal(int32_t d, int32_t lo, int s)
     return (int32_t)((((int64_t)1 << s) + d / 2) / d);
 }
 
+/* 24 Fs / sigma0 in m at 2^-40, truncated (the LS element's SS_LS_Q_SATURATION_LENGTHS); 0 unless
+ * both are > 0 */
+static int32_t sat_length_q40(const ss_friction_config_q_t *cfg)
+{
+    if (cfg->sigma0_n_per_m <= 0 || cfg->fs_q24 <= 0) {
+        return 0;
+    }
+    const int64_t l = 24 * (int64_t)cfg->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) / cfg->sigma0_n_per_m;
+    return (int32_t)ss_clamp64(l, 0, INT32_MAX);
+}
+
 void ss_friction_config_reciprocals_q(ss_friction_config_q_t *cfg)
 {
     cfg->inv_vs_q45 = reciprocal(cfg->vs_q28, SS_Q_VS_MIN_Q28, 45);
     cfg->inv_sigma0_q47 = reciprocal(cfg->sigma0_n_per_m, SS_Q_SIGMA0_MIN_N_PER_M, 47);
+    cfg->inv_fs_q48 = reciprocal(cfg->fs_q24, SS_Q_FS_MIN_Q24, 48);
+    cfg->sat_length_q40 = sat_length_q40(cfg);
 }
 
-static const char *const FIELD_NAMES_Q[2][9] = {
+static const char *const FIELD_NAMES_Q[2][11] = {
     {"fs_q24", "fc_q24", "vs_q28", "sigma0_n_per_m", "sigma1_q16", "sigma2_q16", "asymmetry_q30",
-     "inv_vs_q45", "inv_sigma0_q47"},
+     "inv_vs_q45", "inv_sigma0_q47", "inv_fs_q48", "sat_length_q40"},
     {"friction.fs_q24", "friction.fc_q24", "friction.vs_q28", "friction.sigma0_n_per_m",
      "friction.sigma1_q16", "friction.sigma2_q16", "friction.asymmetry_q30", "friction.inv_vs_q45",
-     "friction.inv_sigma0_q47"},
+     "friction.inv_sigma0_q47", "friction.inv_fs_q48", "friction.sat_length_q40"},
 };
 
 ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, int prefixed,
@@ -56,7 +71,7 @@ ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, 
     }
     const char *const *names = FIELD_NAMES_Q[prefixed ? 1 : 0];
     int bad = -1;
-    if (cfg->fs_q24 <= 0 || cfg->fs_q24 > SS_Q_FS_MAX_Q24) {
+    if (cfg->fs_q24 <= SS_Q_FS_MIN_Q24 || cfg->fs_q24 > SS_Q_FS_MAX_Q24) {
         bad = 0;
     } else if (cfg->fc_q24 > cfg->fs_q24 || (int64_t)cfg->fc_q24 * SS_Q_FS_OVER_FC_MAX < cfg->fs_q24) {
         bad = 1; /* Fc above Fs would make the Stribeck curve rise; s/g <= Fs/Fc must fit */
@@ -76,6 +91,10 @@ ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, 
         bad = 7;
     } else if (cfg->inv_sigma0_q47 != reciprocal(cfg->sigma0_n_per_m, SS_Q_SIGMA0_MIN_N_PER_M, 47)) {
         bad = 8;
+    } else if (cfg->inv_fs_q48 != reciprocal(cfg->fs_q24, SS_Q_FS_MIN_Q24, 48)) {
+        bad = 9;
+    } else if (cfg->sat_length_q40 != sat_length_q40(cfg)) {
+        bad = 10;
     }
     if (bad >= 0) {
         *bad_field = names[bad];

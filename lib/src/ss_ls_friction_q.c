@@ -8,6 +8,16 @@
  * 0.04 LSB), so the frame re-bases without changing any force (the float family's constant). */
 #define SS_LS_Q_SATURATION_LENGTHS 24
 
+/* sigma0 |dx| / (2^halves Fs) as the Q32 exponent of ss_exp_neg_q32_q30: N/m times m at 2^-40
+ * times 1/N at 2^-24 is a pure number at 2^-64. sigma0 |dx| is held below 2^62, where the exponent
+ * is 2^14 and more and exp(-x) is 0 anyway. */
+static uint64_t exponent_fs_q32(const ss_friction_config_q_t *cfg, int64_t dx_q40, int halves)
+{
+    const int64_t num = ss_clamp64((int64_t)cfg->sigma0_n_per_m * ss_clamp64(ss_abs64(dx_q40), 0, INT32_MAX),
+                                   0, ((int64_t)1 << 62) - 1);
+    return (uint64_t)ss_mul_shr_round_wide(num, cfg->inv_fs_q48, 32 + halves);
+}
+
 /* sigma0 |dx| / den (den a force at 2^-24 N) as the Q32 exponent of ss_exp_neg_q32_q30. */
 static uint64_t exponent_q32(const ss_friction_config_q_t *cfg, int64_t dx_q40, int64_t den_q24)
 {
@@ -27,7 +37,7 @@ static int64_t breakaway_gate_q30(const ss_friction_config_q_t *cfg, int32_t fm_
     if (over >= cfg->fs_q24) {
         return SS_Q30_ONE;
     }
-    const int64_t t = ss_div_round(over * SS_Q30_ONE, cfg->fs_q24);
+    const int64_t t = ss_shr_round(over * cfg->inv_fs_q48, 48 - 30); /* over / Fs in Q30 */
     const int64_t t2 = ss_shr_round(t * t, 30);
     return ss_shr_round(t2 * (3 * (int64_t)SS_Q30_ONE - 2 * t), 30);
 }
@@ -89,12 +99,12 @@ static void eval_branch(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
     const int64_t fs = cfg->fs_q24;
     if (st->depth == 0u) {
         const int64_t u = (int64_t)st->x_q40 - st->x0_q40;
-        const int64_t e = ss_exp_neg_q32_q30(exponent_q32(cfg, u, fs));
+        const int64_t e = ss_exp_neg_q32_q30(exponent_fs_q32(cfg, u, 0));
         st->fm_q24 = (int32_t)(ss_sign32(u) * ss_shr_round(fs * (SS_Q30_ONE - e), 30));
         st->kt_q30 = (int32_t)e;
     } else {
         const ss_ls_reversal_q_t *r = &st->rev[st->depth - 1u];
-        const int64_t e = ss_exp_neg_q32_q30(exponent_q32(cfg, (int64_t)st->x_q40 - r->x_q40, 2 * fs));
+        const int64_t e = ss_exp_neg_q32_q30(exponent_fs_q32(cfg, (int64_t)st->x_q40 - r->x_q40, 1));
         const int64_t fm = r->f_q24 + ((st->dir > 0) ? 1 : -1) * ss_shr_round(2 * fs * (SS_Q30_ONE - e), 30);
         st->fm_q24 = (int32_t)ss_clamp64(fm, -fs, fs); /* rounding must not push |F_M| past Fs */
         st->kt_q30 = (int32_t)e;
@@ -107,8 +117,7 @@ static void rebase(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
         return; /* reversal points bound the excursion */
     }
     const int64_t u = (int64_t)st->x_q40 - st->x0_q40;
-    const int64_t l_sat = SS_LS_Q_SATURATION_LENGTHS * (int64_t)cfg->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) /
-                          cfg->sigma0_n_per_m;
+    const int64_t l_sat = cfg->sat_length_q40; /* SS_LS_Q_SATURATION_LENGTHS Fs / sigma0 */
     if (ss_abs64(u) > l_sat) {
         st->x0_q40 = (int32_t)(-ss_sign32(u) * l_sat);
         st->x_q40 = 0;
@@ -188,7 +197,7 @@ int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_
     }
     /* (s / Fs) F_M + sigma1 dz/dt (the contact, asymmetric by the sign of F_M) + sigma2 v; Q16 N s/m
      * times 2^-28 m/s is N at 2^-44 */
-    const int64_t contact = ss_div_round((int64_t)st->level_q24 * st->fm_q24, cfg->fs_q24) +
+    const int64_t contact = ss_mul_shr_round_wide((int64_t)st->level_q24 * st->fm_q24, cfg->inv_fs_q48, 48) +
                             ss_shr_round((int64_t)cfg->sigma1_q16 * zdot, 20);
     return ss_sat32(ss_asymmetric_q(cfg, contact, st->fm_q24) +
                     ss_shr_round((int64_t)cfg->sigma2_q16 * v_q28, 20));

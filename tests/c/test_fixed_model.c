@@ -180,6 +180,19 @@ static void test_converter_names_bad_fields(void **unused)
     c.friction.fc_n = 0.008f;
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "friction.sigma0_n_per_m");
+    t = ss_actuator_config_table1_q();
+    t.friction.inv_fs_q48 += 1;
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.inv_fs_q48");
+    t = ss_actuator_config_table1_q();
+    t.friction.sat_length_q40 -= 1;
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.sat_length_q40");
+    c = ok;
+    c.friction.fs_n = 0.005f; /* 5 mN: below the q family's 7.8 mN */
+    c.friction.fc_n = 0.004f;
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.fs_n");
     /* waveform */
     ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(500.0f, 100.0f, 0.0f, 0.95f, 1, 3);
     ss_waveform_config_q_t wq;
@@ -748,7 +761,8 @@ static void test_q_bit_exact_reference(void **unused)
     assert_int_equal(ss_waveform_init_q(&w, cfg.dt_q40, &ws), SS_OK);
     assert_int_equal(ss_actuator_init_q(&cfg, &st, ss_waveform_value_q(&w, &ws)), SS_OK);
     assert_int_equal(ss_actuator_run_q(&cfg, &st, &w, &ws, 1000u, 250u, NULL, &rows), SS_OK);
-    assert_true(st.x_slider_q40 == 9386164); /* SS_Q_CHECK_X_SLIDER in q_check.c: 8.54 um */
+    /* SS_Q_CHECK_X_SLIDER in q_check.c: 8.54 um (9386164 while the step divided by Fs: 7 fm) */
+    assert_true(st.x_slider_q40 == 9386156);
 }
 
 static void test_q_abi_sizes(void **unused)
