@@ -18,6 +18,10 @@
  * 2^28 x 2^-40 m = 0.24 mm keeps the local frame far inside int32 (+-1.95 mm). */
 #define SS_Q_SAT_LENGTH_MAX_Q40 ((int64_t)1 << 28)
 
+/* Presliding lengths Fs/sigma0 after which the LS virgin curve is Fs exactly in Q30 (exp(-24) is
+ * 0.04 LSB), so its frame re-bases without changing any force (the float family's constant). */
+#define SS_LS_Q_SATURATION_LENGTHS 24
+
 /* |asymmetry| at most 0.9 (the float range), in Q2.30: ceil(0.9 x 2^30). */
 #define SS_Q_ASYMMETRY_MAX_Q30 966367642
 

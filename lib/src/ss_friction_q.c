@@ -34,14 +34,14 @@ static int32_t reciprocal(int32_t d, int32_t lo, int s)
     return (int32_t)((((int64_t)1 << s) + d / 2) / d);
 }
 
-/* 24 Fs / sigma0 in m at 2^-40, truncated (the LS element's SS_LS_Q_SATURATION_LENGTHS); 0 unless
- * both are > 0 */
+/* SS_LS_Q_SATURATION_LENGTHS Fs / sigma0 in m at 2^-40, truncated; 0 unless both are > 0 */
 static int32_t sat_length_q40(const ss_friction_config_q_t *cfg)
 {
     if (cfg->sigma0_n_per_m <= 0 || cfg->fs_q24 <= 0) {
         return 0;
     }
-    const int64_t l = 24 * (int64_t)cfg->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) / cfg->sigma0_n_per_m;
+    const int64_t l = SS_LS_Q_SATURATION_LENGTHS * (int64_t)cfg->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) /
+                      cfg->sigma0_n_per_m;
     return (int32_t)ss_clamp64(l, 0, INT32_MAX);
 }
 

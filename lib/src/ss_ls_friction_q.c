@@ -4,17 +4,12 @@
 
 #include "ss_fixed_ops.h"
 
-/* Presliding lengths Fs/sigma0 after which the virgin curve is Fs exactly in Q30 (exp(-24) is
- * 0.04 LSB), so the frame re-bases without changing any force (the float family's constant). */
-#define SS_LS_Q_SATURATION_LENGTHS 24
-
 /* sigma0 |dx| / (2^halves Fs) as the Q32 exponent of ss_exp_neg_q32_q30: N/m times m at 2^-40
- * times 1/N at 2^-24 is a pure number at 2^-64. sigma0 |dx| is held below 2^62, where the exponent
- * is 2^14 and more and exp(-x) is 0 anyway. */
+ * times 1/N at 2^-24 is a pure number at 2^-64. A branch spans at most two saturation lengths
+ * (2^29); |dx| held below 2^31 keeps sigma0 |dx| below 2^62, as the wide product needs. */
 static uint64_t exponent_fs_q32(const ss_friction_config_q_t *cfg, int64_t dx_q40, int halves)
 {
-    const int64_t num = ss_clamp64((int64_t)cfg->sigma0_n_per_m * ss_clamp64(ss_abs64(dx_q40), 0, INT32_MAX),
-                                   0, ((int64_t)1 << 62) - 1);
+    const int64_t num = (int64_t)cfg->sigma0_n_per_m * ss_clamp64(ss_abs64(dx_q40), 0, INT32_MAX);
     return (uint64_t)ss_mul_shr_round_wide(num, cfg->inv_fs_q48, 32 + halves);
 }
 
