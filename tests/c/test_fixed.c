@@ -40,6 +40,23 @@ static void test_mul_shr_round_wide(void **unused)
     assert_true(worst <= 1);
 }
 
+/* The one-division path of ss_ratio_x65536 (num below 2^47) gives the bits of the exact two-step
+ * form (quotient, then the remainder's 16 more bits) on every num and den drawn. */
+static void test_ratio_x65536_one_division(void **unused)
+{
+    (void)unused;
+    uint64_t r = 2463534242ull;
+    for (int i = 0; i < 200000; ++i) {
+        const uint64_t num = xorshift(&r) >> (17 + xorshift(&r) % 40);
+        const uint64_t den = (xorshift(&r) >> (33 + xorshift(&r) % 30)) + 1u;
+        const uint64_t q = num / den;
+        const uint64_t two_step = (q << 16) + (((num % den) << 16) + den / 2) / den;
+        assert_true(ss_ratio_x65536(num, den) == two_step);
+    }
+    assert_true(ss_ratio_x65536(((uint64_t)1 << 47) - 1, 1) == (((uint64_t)1 << 47) - 1) << 16);
+    assert_true(ss_ratio_x65536((uint64_t)1 << 62, 1) == (uint64_t)1 << 63); /* saturated */
+}
+
 /* dx / dt through the step's reciprocal: off the rounded quotient by at most one quantum plus the
  * reciprocal's own relative error (half a unit of 2^47 / dt: 3.9e-9 at 1 us, 9 quanta at the 8 m/s
  * end of the format), and that error at most 2^-17 over the whole range of steps. */
@@ -149,6 +166,7 @@ int main(void)
         cmocka_unit_test(test_sat32),
         cmocka_unit_test(test_mul_shr_round_wide),
         cmocka_unit_test(test_velocity_by_reciprocal),
+        cmocka_unit_test(test_ratio_x65536_one_division),
         cmocka_unit_test(test_exp_neg_error_bound),
         cmocka_unit_test(test_exp_neg_bits_of_plain_division),
         cmocka_unit_test(test_exp_neg_q32_error_bound),
