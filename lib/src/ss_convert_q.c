@@ -59,7 +59,7 @@ static ss_status_t friction_to_q(const ss_friction_config_f32_t *in, int prefixe
         *bad = names[1];
         return SS_ERR_RANGE;
     }
-    if ((int64_t)24 * out->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) >
+    if ((int64_t)SS_LS_Q_SATURATION_LENGTHS * out->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) >
         SS_Q_SAT_LENGTH_MAX_Q40 * out->sigma0_n_per_m) {
         *bad = names[3];
         return SS_ERR_RANGE;

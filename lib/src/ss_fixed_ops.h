@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "ss_fixed.h"
+#include "ss_qformat.h"
 
 /* v / 2^s rounded to nearest (ties toward +infinity), 0 < s < 63. */
 static inline int64_t ss_shr_round(int64_t v, int s)
@@ -72,20 +73,28 @@ static inline uint64_t ss_ratio_x65536(uint64_t num, uint64_t den)
  * 2^31 = 1.95 ms, leaves 17). */
 #define SS_Q_DT_MIN_Q40 65536
 
+/* round(2^s / d) for d > lo, else 0: a config value's reciprocal, made once (at init or by the
+ * converter), so that the step multiplies where it divided; lo is where it would no longer fit
+ * 31 bits. */
+static inline int32_t ss_reciprocal_q(int32_t d, int32_t lo, int s)
+{
+    if (d <= lo) {
+        return 0;
+    }
+    return (int32_t)((((int64_t)1 << s) + d / 2) / d);
+}
+
 /* 2^47 / dt_q40 rounded: 1/dt in 1/s at 2^-7, the step's reciprocal; 0 for dt_q40 outside
  * (SS_Q_DT_MIN_Q40, 2^31). */
 static inline int32_t ss_inv_dt_q47(int32_t dt_q40)
 {
-    if (dt_q40 <= SS_Q_DT_MIN_Q40) {
-        return 0;
-    }
-    return (int32_t)((((int64_t)1 << 47) + dt_q40 / 2) / dt_q40);
+    return ss_reciprocal_q(dt_q40, SS_Q_DT_MIN_Q40, 47);
 }
 
 /* dx / dt in m/s at 2^-28 (saturated) from dx in m at 2^-40 and 1/dt in 1/s at 2^-7. */
 static inline int32_t ss_velocity_q28(int64_t dx_q40, int32_t inv_dt_q47)
 {
-    const int64_t v = ss_shr_round(ss_clamp64(dx_q40, -INT32_MAX, INT32_MAX) * inv_dt_q47, 19);
+    const int64_t v = ss_shr_round(ss_clamp64(dx_q40, -INT32_MAX, INT32_MAX) * inv_dt_q47, 47 - SS_QF_DXDT);
     return (int32_t)ss_clamp64(v, -INT32_MAX, INT32_MAX);
 }
 

@@ -25,15 +25,6 @@ ss_friction_config_q_t ss_friction_config_table1_q(void)
     return cfg;
 }
 
-/* round(2^s / d) for d > lo, else 0 (d <= lo would not fit 31 bits) */
-static int32_t reciprocal(int32_t d, int32_t lo, int s)
-{
-    if (d <= lo) {
-        return 0;
-    }
-    return (int32_t)((((int64_t)1 << s) + d / 2) / d);
-}
-
 /* SS_LS_Q_SATURATION_LENGTHS Fs / sigma0 in m at 2^-40, truncated; 0 unless both are > 0 */
 static int32_t sat_length_q40(const ss_friction_config_q_t *cfg)
 {
@@ -47,9 +38,9 @@ static int32_t sat_length_q40(const ss_friction_config_q_t *cfg)
 
 void ss_friction_config_reciprocals_q(ss_friction_config_q_t *cfg)
 {
-    cfg->inv_vs_q45 = reciprocal(cfg->vs_q28, SS_Q_VS_MIN_Q28, 45);
-    cfg->inv_sigma0_q47 = reciprocal(cfg->sigma0_n_per_m, SS_Q_SIGMA0_MIN_N_PER_M, 47);
-    cfg->inv_fs_q48 = reciprocal(cfg->fs_q24, SS_Q_FS_MIN_Q24, 48);
+    cfg->inv_vs_q45 = ss_reciprocal_q(cfg->vs_q28, SS_Q_VS_MIN_Q28, 45);
+    cfg->inv_sigma0_q47 = ss_reciprocal_q(cfg->sigma0_n_per_m, SS_Q_SIGMA0_MIN_N_PER_M, 47);
+    cfg->inv_fs_q48 = ss_reciprocal_q(cfg->fs_q24, SS_Q_FS_MIN_Q24, 48);
     cfg->sat_length_q40 = sat_length_q40(cfg);
 }
 
@@ -78,7 +69,7 @@ ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, 
     } else if (cfg->vs_q28 <= SS_Q_VS_MIN_Q28) {
         bad = 2;
     } else if (cfg->sigma0_n_per_m <= SS_Q_SIGMA0_MIN_N_PER_M ||
-               (int64_t)24 * cfg->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) >
+               (int64_t)SS_LS_Q_SATURATION_LENGTHS * cfg->fs_q24 * ((int64_t)1 << SS_QF_F_OVER_K) >
                    SS_Q_SAT_LENGTH_MAX_Q40 * cfg->sigma0_n_per_m) {
         bad = 3; /* the presliding length must fit the element's local frame */
     } else if (cfg->sigma1_q16 < 0) {
@@ -87,11 +78,11 @@ ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, 
         bad = 5;
     } else if (cfg->asymmetry_q30 < -SS_Q_ASYMMETRY_MAX_Q30 || cfg->asymmetry_q30 > SS_Q_ASYMMETRY_MAX_Q30) {
         bad = 6;
-    } else if (cfg->inv_vs_q45 != reciprocal(cfg->vs_q28, SS_Q_VS_MIN_Q28, 45)) {
+    } else if (cfg->inv_vs_q45 != ss_reciprocal_q(cfg->vs_q28, SS_Q_VS_MIN_Q28, 45)) {
         bad = 7;
-    } else if (cfg->inv_sigma0_q47 != reciprocal(cfg->sigma0_n_per_m, SS_Q_SIGMA0_MIN_N_PER_M, 47)) {
+    } else if (cfg->inv_sigma0_q47 != ss_reciprocal_q(cfg->sigma0_n_per_m, SS_Q_SIGMA0_MIN_N_PER_M, 47)) {
         bad = 8;
-    } else if (cfg->inv_fs_q48 != reciprocal(cfg->fs_q24, SS_Q_FS_MIN_Q24, 48)) {
+    } else if (cfg->inv_fs_q48 != ss_reciprocal_q(cfg->fs_q24, SS_Q_FS_MIN_Q24, 48)) {
         bad = 9;
     } else if (cfg->sat_length_q40 != sat_length_q40(cfg)) {
         bad = 10;
