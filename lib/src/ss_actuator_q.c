@@ -259,9 +259,18 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     /* N s/m in Q16 times (m/s)/N at 2^-40 is 2^-56: to Q30 */
     const int64_t kicks = (int64_t)cfg->kick_rod_q40 + cfg->kick_slider_q40;
     const int64_t denom = SS_Q30_ONE + ss_shr_round(dfdv * kicks, 26);
-    st->force_q24 = (denom > SS_ACT_Q_DENOM_MIN_Q30)
-                        ? ss_sat32(ss_div_round((int64_t)f_free * SS_Q30_ONE, denom))
-                        : f_free;
+    if (denom > SS_ACT_Q_DENOM_MIN_Q30 && denom <= INT32_MAX) {
+        /* F_free / denom by denom's reciprocal m 2^-sh: denom in (0.1 x 2^30, 2^31), sh in
+         * [57, 61], F_free m / 2^(sh - 30) one product */
+        int sh = 0;
+        const int32_t m = ss_reciprocal_mantissa_q((uint32_t)denom, &sh);
+        st->force_q24 = ss_sat32(ss_mul_recip_q(f_free, m, sh - 30));
+    } else if (denom > SS_ACT_Q_DENOM_MIN_Q30) {
+        /* damping above the masses' dt/2 (dF/dv dt/2 (1/M_R + 1/M_c) >= 1): divide */
+        st->force_q24 = ss_sat32(ss_div_round((int64_t)f_free * SS_Q30_ONE, denom));
+    } else {
+        st->force_q24 = f_free;
+    }
 
     kick(cfg, st);
     st->steps++;

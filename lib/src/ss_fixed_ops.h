@@ -30,6 +30,36 @@ static inline int64_t ss_mul_shr_round_wide(int64_t a, int32_t b, int s)
     return ss_shr_round(hi * b + ss_shr_round(lo * b, 31), s - 31);
 }
 
+/* A reciprocal made in the step, for a divisor that is not a config constant (the Stribeck level
+ * g, the implicit-damping denominator): 1/d ~ m 2^-shift for d in [1, 2^31), m in [2^30, 2^31)
+ * within 0.55 of 2^shift / d (relative error below 2^-30.8; every normalised d checked once, off
+ * line; 2^31 - 1 where that is 2^31, d a power of two), shift = 61 + the left shift that brings d
+ * into [2^30, 2^31). No division: a 256-entry seed, a Newton step in 32-bit products and one in
+ * two 32 x 32 -> 64 products (tests/c/test_fixed.c, test_reciprocal_mantissa). d = 0 or d >= 2^31
+ * gives m = 0. Defined in ss_fixed.c, so that its table is once in the image. */
+int32_t ss_reciprocal_mantissa_q(uint32_t d, int *shift);
+
+/* round(a m / 2^s), ties away from zero, for int32 a, m from ss_reciprocal_mantissa_q and
+ * 1 <= s < 63: a / d at 2^-(s - shift), exact but for m's rounding. One 32 x 32 -> 64 product. */
+static inline int64_t ss_mul_recip_q(int32_t a, int32_t m, int s)
+{
+    const uint32_t mag = (a < 0) ? (uint32_t)0 - (uint32_t)a : (uint32_t)a;
+    const int64_t q = (int64_t)((((uint64_t)mag * (uint32_t)m >> (s - 1)) + 1u) >> 1);
+    return (a < 0) ? -q : q;
+}
+
+/* round(a m / 2^s) for a < 2^49, 0 <= m < 2^31, 18 <= s < 63, in two 32 x 32 -> 64 products (a m
+ * needs 80 bits): a = hi 2^17 + lo, lo m rounded to 2^-17 first, so the result can be 1 off the
+ * exact rounding. A quotient by a reciprocal of ss_reciprocal_mantissa_q with a 49-bit dividend. */
+static inline uint64_t ss_mul_shr_round_u49(uint64_t a, int32_t m, int s)
+{
+    const uint32_t hi = (uint32_t)(a >> 17);
+    const uint32_t lo = (uint32_t)a & (((uint32_t)1 << 17) - 1u);
+    const uint64_t sum =
+        (uint64_t)hi * (uint32_t)m + (((uint64_t)lo * (uint32_t)m + ((uint64_t)1 << 16)) >> 17);
+    return ((sum >> (s - 18)) + 1u) >> 1;
+}
+
 /* n / d rounded to nearest (ties away from zero), d > 0, |n| < 2^62. */
 static inline int64_t ss_div_round(int64_t n, int64_t d)
 {
@@ -67,6 +97,17 @@ static inline uint64_t ss_ratio_x65536(uint64_t num, uint64_t den)
         return (uint64_t)1 << 63;
     }
     return (q << 16) + (((num % den) << 16) + den / 2) / den;
+}
+
+/* ss_ratio_x65536(num, den) from den's reciprocal m 2^-sh (ss_reciprocal_mantissa_q, sh >= 34):
+ * num below 2^49 (a step's sigma0 |dx| is: 1 um at 10 MN/m is 2^43) in two products, at most 1 off
+ * num 2^16 m / 2^sh; a larger num by the division. */
+static inline uint64_t ss_ratio_x65536_recip(uint64_t num, uint64_t den, int32_t m, int sh)
+{
+    if (num < ((uint64_t)1 << 49)) {
+        return ss_mul_shr_round_u49(num, m, sh - 16);
+    }
+    return ss_ratio_x65536(num, den);
 }
 
 /* The shortest step the q family takes, exclusive: 2^47 / dt_q40 then fits 31 bits (the longest,

@@ -13,11 +13,15 @@ static uint64_t exponent_fs_q32(const ss_friction_config_q_t *cfg, int64_t dx_q4
     return (uint64_t)ss_mul_shr_round_wide(num, cfg->inv_fs_q48, 32 + halves);
 }
 
-/* sigma0 |dx| / den (den a force at 2^-24 N) as the Q32 exponent of ss_exp_neg_q32_q30. */
+/* sigma0 |dx| / den (den a force at 2^-24 N, > 0) as the Q32 exponent of ss_exp_neg_q32_q30, by
+ * den's reciprocal (no division while sigma0 |dx| < 2^49). */
 static uint64_t exponent_q32(const ss_friction_config_q_t *cfg, int64_t dx_q40, int64_t den_q24)
 {
     /* |dx| < 2^32 and sigma0 < 2^31: the product fits */
-    return ss_ratio_x65536((uint64_t)cfg->sigma0_n_per_m * (uint64_t)ss_abs64(dx_q40), (uint64_t)den_q24);
+    const uint64_t num = (uint64_t)cfg->sigma0_n_per_m * (uint64_t)ss_abs64(dx_q40);
+    int sh = 0;
+    const int32_t m = ss_reciprocal_mantissa_q((uint32_t)den_q24, &sh);
+    return ss_ratio_x65536_recip(num, (uint64_t)den_q24, m, sh);
 }
 
 /* Smooth step from 0 (|F_M| <= 0.9 Fs) to 1 (at Fs) in Q30: only gross slip drives the LuGre part.
@@ -179,12 +183,17 @@ int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_
     const int32_t vp = (int32_t)ss_shr_round((int64_t)v_q28 * share, 30);
     int32_t slope = 0;
     const int64_t g = (dfdv_q16 != NULL) ? ss_stribeck_with_slope_q(cfg, vp, &slope) : ss_stribeck_q(cfg, vp);
-    const int64_t ratio = ss_div_round((int64_t)st->level_q24 * SS_Q30_ONE, g); /* s / g, Q30 */
+    /* 1/g = m 2^-sh, once for both quotients by g: g in [Fc, Fs] within (2^11, 2^29], so sh in
+     * [42, 60] */
+    int sh = 0;
+    const int32_t m = ss_reciprocal_mantissa_q((uint32_t)g, &sh);
+    const int64_t ratio = ss_mul_recip_q(st->level_q24, m, sh - 30); /* s / g, Q30 */
     const int64_t one_m = SS_Q30_ONE - ratio;
     const int64_t zdot = ss_shr_round(vp * one_m, 30); /* m/s at 2^-28 */
     if (dfdv_q16 != NULL) {
-        /* d(dz/dt)/dvp = (1 - s/g) + vp s g' / g^2; vp g' / g is a pure number at 2^-20 */
-        const int64_t vg = ss_div_round((int64_t)vp * slope, g);
+        /* d(dz/dt)/dvp = (1 - s/g) + vp s g' / g^2; vp g' / g is a pure number at 2^-20, from vp g'
+         * rounded to 2^-24 N (|vp g'| <= 0.74 (Fs - Fc) < 2^29 there: the product with m fits) */
+        const int64_t vg = ss_mul_recip_q(ss_sat32(ss_shr_round((int64_t)vp * slope, 20)), m, sh - 20);
         const int64_t dzdvp = one_m + ss_shr_round(ratio * vg, 20);
         const int64_t s1 = ss_shr_round((int64_t)cfg->sigma1_q16 * share, 30);
         *dfdv_q16 =

@@ -40,6 +40,105 @@ static void test_mul_shr_round_wide(void **unused)
     assert_true(worst <= 1);
 }
 
+/* |m - 2^shift / d| in units of m, exactly, from 128-bit arithmetic (m d - 2^shift over d). */
+static double reciprocal_error(uint32_t d)
+{
+    int sh = 0;
+    const int32_t m = ss_reciprocal_mantissa_q(d, &sh);
+    const __int128 r = (__int128)m * (__int128)d - ((__int128)1 << sh);
+    return fabs((double)r / (double)d);
+}
+
+/* The step's reciprocal (no division) against exact 128-bit arithmetic: m in [2^30, 2^31), within
+ * 0.55 of 2^shift / d (every normalised divisor in (2^30, 2^31) was checked once, off line: worst
+ * 0.533, i.e. m is the rounded quotient but next to a tie), 2^31 - 1 at powers of two. The step gives it g in
+ * (2^11, 2^29] and the implicit-damping denominator in (0.1 x 2^30, 2^31). */
+static void test_reciprocal_mantissa(void **unused)
+{
+    (void)unused;
+    double worst = 0.0;
+    for (uint32_t dn = ((uint32_t)1 << 30) + 1u; dn < ((uint32_t)1 << 31) - 4099u; dn += 4099u) {
+        worst = fmax(worst, reciprocal_error(dn));
+    }
+    for (uint32_t i = 1; i < 2048u; ++i) { /* the seed's parts (2^22), and steps of 2^19 */
+        const uint32_t edge = ((uint32_t)1 << 30) + (i << 19);
+        worst = fmax(worst, fmax(reciprocal_error(edge), reciprocal_error(edge + 1u)));
+        worst = fmax(worst, reciprocal_error(edge - 1u));
+    }
+    worst = fmax(worst, reciprocal_error(INT32_MAX));
+    uint64_t r = 1181783497276652981ull;
+    for (int i = 0; i < 200000; ++i) {
+        const uint32_t d = (uint32_t)(xorshift(&r) >> (33 + xorshift(&r) % 31)) + 1u; /* [1, 2^31) */
+        int sh = 0;
+        assert_true(ss_reciprocal_mantissa_q(d, &sh) >= ((int32_t)1 << 30));
+        if ((d & (d - 1u)) != 0u) {
+            worst = fmax(worst, reciprocal_error(d));
+        }
+    }
+    print_message("reciprocal: worst |m - 2^shift / d| %.3f\n", worst);
+    assert_true(worst < 0.55);
+    int sh = 0;
+    for (int k = 0; k < 31; ++k) { /* powers of two: 2^31 - 1 */
+        assert_int_equal(ss_reciprocal_mantissa_q((uint32_t)1 << k, &sh), INT32_MAX);
+        assert_int_equal(sh, 31 + k);
+    }
+    assert_int_equal(ss_reciprocal_mantissa_q(3u, &sh), 1431655765); /* 2^32 / 3, rounded */
+    assert_int_equal(sh, 32);
+    assert_int_equal(ss_reciprocal_mantissa_q(0u, &sh), 0);
+    assert_int_equal(ss_reciprocal_mantissa_q((uint32_t)1 << 31, &sh), 0);
+}
+
+/* ss_mul_recip_q: round(a m / 2^s), ties away from zero, exactly (128-bit arithmetic). */
+static void test_mul_recip(void **unused)
+{
+    (void)unused;
+    uint64_t r = 2463534242ull;
+    for (int i = 0; i < 200000; ++i) {
+        const int32_t a = (int32_t)(xorshift(&r) >> 32);
+        const int32_t m = (int32_t)(xorshift(&r) >> 33);
+        const int s = 1 + (int)(xorshift(&r) % 62);
+        const __int128 p = (__int128)a * m;
+        const __int128 mag = ((p < 0 ? -p : p) + ((__int128)1 << (s - 1))) >> s;
+        assert_true(ss_mul_recip_q(a, m, s) == (int64_t)(p < 0 ? -mag : mag));
+    }
+}
+
+/* round(a m / 2^s) for a 49-bit a in two products, against 128-bit arithmetic: at most 1 off. */
+static void test_mul_shr_round_u49(void **unused)
+{
+    (void)unused;
+    uint64_t r = 88172645463325252ull;
+    int64_t worst = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const uint64_t a = xorshift(&r) >> (15 + xorshift(&r) % 49); /* below 2^49 */
+        const int32_t m = (int32_t)(xorshift(&r) >> 33);
+        const int s = 18 + (int)(xorshift(&r) % 45);
+        const unsigned __int128 q =
+            ((unsigned __int128)a * (uint64_t)m + ((unsigned __int128)1 << (s - 1))) >> s;
+        const int64_t d = (int64_t)(ss_mul_shr_round_u49(a, m, s) - (uint64_t)q);
+        worst = (d < 0 ? -d : d) > worst ? (d < 0 ? -d : d) : worst;
+    }
+    assert_true(worst <= 1);
+}
+
+/* The exponent sigma0 |dx| / g through g's reciprocal against the exact division: off by at most
+ * the reciprocal's relative error (0.55 of m >= 2^30: below 2^-30.8) of the result plus 1.5 (the
+ * two products' roundings), for num below 2^49 and g in (2^11, 2^31). */
+static void test_ratio_x65536_by_reciprocal(void **unused)
+{
+    (void)unused;
+    uint64_t r = 5489ull;
+    for (int i = 0; i < 200000; ++i) {
+        const uint64_t num = xorshift(&r) >> (15 + xorshift(&r) % 49);
+        const uint32_t den = (uint32_t)(xorshift(&r) >> (33 + xorshift(&r) % 20)) + 2049u;
+        int sh = 0;
+        const int32_t m = ss_reciprocal_mantissa_q(den, &sh);
+        const double exact = ldexp((double)num, 16) / den;
+        const double got = (double)ss_ratio_x65536_recip(num, den, m, sh);
+        assert_true(fabs(got - exact) <= exact * ldexp(0.55, -30) + 1.5);
+    }
+}
+
 /* The one-division path of ss_ratio_x65536 (num below 2^47) gives the bits of the exact two-step
  * form (quotient, then the remainder's 16 more bits) on every num and den drawn. */
 static void test_ratio_x65536_one_division(void **unused)
@@ -167,6 +266,10 @@ int main(void)
         cmocka_unit_test(test_mul_shr_round_wide),
         cmocka_unit_test(test_velocity_by_reciprocal),
         cmocka_unit_test(test_ratio_x65536_one_division),
+        cmocka_unit_test(test_reciprocal_mantissa),
+        cmocka_unit_test(test_mul_recip),
+        cmocka_unit_test(test_mul_shr_round_u49),
+        cmocka_unit_test(test_ratio_x65536_by_reciprocal),
         cmocka_unit_test(test_exp_neg_error_bound),
         cmocka_unit_test(test_exp_neg_bits_of_plain_division),
         cmocka_unit_test(test_exp_neg_q32_error_bound),
