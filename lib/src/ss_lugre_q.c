@@ -23,25 +23,45 @@ ss_status_t ss_lugre_init_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_
     return SS_OK;
 }
 
-/* sigma0 z / g in Q30 (z in m at 2^-40, g in N at 2^-24: sigma0 z is N at 2^-40), from g's
- * reciprocal m 2^-sh (ss_reciprocal_mantissa_q; sh in [42, 60] for g in (2^11, 2^29]): |sigma0 z|
- * 2^14 m / 2^sh with |sigma0 z| < 2^49 in two products (ss_mul_shr_round_u49: sh - 14 >= 28). */
-static int64_t bristle_ratio_q30(const ss_friction_config_q_t *cfg, const ss_lugre_state_q_t *st, int32_t m,
-                                 int sh)
+/* sigma0 z / g in Q30 from sz = sigma0 z (N at 2^-40) and g's reciprocal m 2^-sh
+ * (ss_reciprocal_mantissa_q; sh in [42, 60] for g in (2^11, 2^29]): |sz| 2^14 m / 2^sh with
+ * |sz| < 2^49 in two products (ss_mul_shr_round_u49: sh - 14 >= 28). */
+static int64_t bristle_ratio_q30(int64_t sz, int32_t m, int sh)
 {
-    const int64_t sz =
-        ss_clamp64((int64_t)cfg->sigma0_n_per_m * st->z_q40, -SS_LUGRE_Q_SZ_MAX, SS_LUGRE_Q_SZ_MAX);
     const int64_t k = (int64_t)ss_mul_shr_round_u49((uint64_t)ss_abs64(sz), m, sh - 14);
     return (sz < 0) ? -k : k;
 }
 
-/* bristle_ratio_q30 for the Stribeck level g: one reciprocal of it */
-static int64_t bristle_ratio_of_g_q30(const ss_friction_config_q_t *cfg, const ss_lugre_state_q_t *st,
-                                      int64_t g)
+/* The force at slip velocity v (and dF/dv when dfdv_q16 is not NULL), and dz/dt there: one
+ * Stribeck level, one reciprocal of it, one bristle force for all of them. */
+static int32_t force_at(const ss_friction_config_q_t *cfg, const ss_lugre_state_q_t *st, int32_t v_q28,
+                        int32_t *dfdv_q16, int64_t *zdot_q28)
 {
+    const int64_t v = v_q28;
+    int32_t slope = 0;
+    const int64_t g =
+        (dfdv_q16 != NULL) ? ss_stribeck_with_slope_q(cfg, v_q28, &slope) : ss_stribeck_q(cfg, v_q28);
+    /* 1/g = m 2^-sh, once for both quotients by g */
     int sh = 0;
     const int32_t m = ss_reciprocal_mantissa_q((uint32_t)g, &sh);
-    return bristle_ratio_q30(cfg, st, m, sh);
+    /* the bristle force sigma0 z, N at 2^-40 */
+    const int64_t sz =
+        ss_clamp64((int64_t)cfg->sigma0_n_per_m * st->z_q40, -SS_LUGRE_Q_SZ_MAX, SS_LUGRE_Q_SZ_MAX);
+    const int64_t k = bristle_ratio_q30(sz, m, sh);
+    const int64_t zdot = v - ss_shr_round(ss_abs64(v) * k, 30);
+    if (dfdv_q16 != NULL) {
+        /* d(dz/dt)/dv = 1 - sgn(v) sigma0 z / g + |v| (sigma0 z / g) g' / g; |v| g'/g at 2^-20, from
+         * |v| g' rounded to 2^-24 N (as in the LS element) */
+        const int64_t vg = ss_mul_recip_q(ss_sat32(ss_shr_round(ss_abs64(v) * slope, 20)), m, sh - 20);
+        const int64_t dzdv = SS_Q30_ONE - ss_sign32(v) * k + ss_shr_round(k * vg, 20);
+        *dfdv_q16 =
+            ss_sat32(ss_asymmetric_q(cfg, ss_shr_round((int64_t)cfg->sigma1_q16 * dzdv, 30), st->z_q40) +
+                     cfg->sigma2_q16);
+    }
+    *zdot_q28 = zdot;
+    const int64_t contact = ss_shr_round(sz, 16) + ss_shr_round((int64_t)cfg->sigma1_q16 * zdot, 20);
+    return ss_sat32(ss_asymmetric_q(cfg, contact, st->z_q40) +
+                    ss_shr_round((int64_t)cfg->sigma2_q16 * v, 20));
 }
 
 void ss_lugre_advance_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, int32_t dx_q40,
@@ -71,39 +91,17 @@ int32_t ss_lugre_step_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *s
         return st->force_q24;
     }
     ss_lugre_advance_q(cfg, st, dx_q40, inv_dt);
-    const int32_t v = ss_velocity_q28(dx_q40, inv_dt);
-    const int64_t k = bristle_ratio_of_g_q30(cfg, st, ss_stribeck_q(cfg, v));
-    st->zdot_q28 = ss_sat32(v - ss_shr_round(ss_abs64(v) * k, 30));
-    st->force_q24 = ss_lugre_force_at_q(cfg, st, v, NULL);
+    int64_t zdot = 0;
+    st->force_q24 = force_at(cfg, st, ss_velocity_q28(dx_q40, inv_dt), NULL, &zdot);
+    st->zdot_q28 = ss_sat32(zdot);
     return st->force_q24;
 }
 
 int32_t ss_lugre_force_at_q(const ss_friction_config_q_t *cfg, const ss_lugre_state_q_t *st, int32_t v_q28,
                             int32_t *dfdv_q16)
 {
-    const int64_t v = v_q28;
-    int32_t slope = 0;
-    const int64_t g =
-        (dfdv_q16 != NULL) ? ss_stribeck_with_slope_q(cfg, v_q28, &slope) : ss_stribeck_q(cfg, v_q28);
-    /* 1/g = m 2^-sh, once for both quotients by g */
-    int sh = 0;
-    const int32_t m = ss_reciprocal_mantissa_q((uint32_t)g, &sh);
-    const int64_t k = bristle_ratio_q30(cfg, st, m, sh);
-    const int64_t zdot = v - ss_shr_round(ss_abs64(v) * k, 30);
-    if (dfdv_q16 != NULL) {
-        /* d(dz/dt)/dv = 1 - sgn(v) sigma0 z / g + |v| (sigma0 z / g) g' / g; |v| g'/g at 2^-20, from
-         * |v| g' rounded to 2^-24 N (as in the LS element) */
-        const int64_t vg = ss_mul_recip_q(ss_sat32(ss_shr_round(ss_abs64(v) * slope, 20)), m, sh - 20);
-        const int64_t dzdv = SS_Q30_ONE - ss_sign32(v) * k + ss_shr_round(k * vg, 20);
-        *dfdv_q16 =
-            ss_sat32(ss_asymmetric_q(cfg, ss_shr_round((int64_t)cfg->sigma1_q16 * dzdv, 30), st->z_q40) +
-                     cfg->sigma2_q16);
-    }
-    const int64_t sz =
-        ss_clamp64((int64_t)cfg->sigma0_n_per_m * st->z_q40, -SS_LUGRE_Q_SZ_MAX, SS_LUGRE_Q_SZ_MAX);
-    const int64_t contact = ss_shr_round(sz, 16) + ss_shr_round((int64_t)cfg->sigma1_q16 * zdot, 20);
-    return ss_sat32(ss_asymmetric_q(cfg, contact, st->z_q40) +
-                    ss_shr_round((int64_t)cfg->sigma2_q16 * v, 20));
+    int64_t zdot = 0;
+    return force_at(cfg, st, v_q28, dfdv_q16, &zdot);
 }
 
 ss_status_t ss_lugre_run_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, const int32_t *dx_q40,
