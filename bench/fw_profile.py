@@ -9,7 +9,8 @@ entry to `ss_actuator_init_q` / `ss_actuator_init_f32` (the bench initialises ea
 so the LS and LuGre runs are reported apart; figures are instructions per actuator step
 (the segment's total over the bench's 20 000 steps), the waveform player and its loop alone
 included. Blocks that the instruction budget stops at their entry are counted too: the totals
-come out 1-2 % above the bench's own count.
+come out 1-2 % above the bench's own count. The helpers' instructions are listed a second time by
+their caller (the last function outside them that ran): which code's products or divisions they are.
 
     .venv/bin/python bench/fw_profile.py cortex-m3 q      (after bash bench/firmware_bench.sh)
     .venv/bin/python bench/fw_profile.py cortex-m4f f32
@@ -67,6 +68,7 @@ def profile(target: str, variant: str) -> list[collections.Counter[str]]:
         block: dict[str, tuple[int, str]] = {}  # host address -> (instructions, function)
         segments: list[collections.Counter[str]] = [collections.Counter()]
         block_pc, block_n, block_sym = -1, 0, ""
+        caller = "?"  # the last function outside libgcc's helpers: who called the helper running
         with open(fifo, errors="replace") as log:
             for line in log:
                 if line.startswith("0x") and block_sym:
@@ -86,6 +88,10 @@ def profile(target: str, variant: str) -> list[collections.Counter[str]]:
                         segments.append(collections.Counter())
                     n, sym = block.get(host, (0, "?"))
                     segments[-1][sym] += n
+                    if sym.startswith("__"):
+                        segments[-1][f"{sym} <- {caller}"] += n
+                    else:
+                        caller = sym
                 elif line.startswith("IN:"):
                     block_pc, block_n, block_sym = -1, 0, line[3:].strip() or "?"
         proc.wait(timeout=60)
@@ -100,9 +106,12 @@ def main() -> None:
     a = ap.parse_args()
     segments = profile(a.target, a.variant)[1:]  # before the first init: start-up
     for name, seg in zip(("ls", "lugre", "gms"), segments):
-        total = sum(seg.values())
+        total = sum(n for k, n in seg.items() if " <- " not in k)
         print(f"== {a.target} {a.variant} {name}: {total / BENCH_STEPS:.0f} instructions per step")
-        for sym, n in seg.most_common(a.top):
+        for sym, n in [x for x in seg.most_common() if " <- " not in x[0]][: a.top]:
+            print(f"   {n / BENCH_STEPS:8.1f}  {100 * n / total:5.1f} %  {sym}")
+        print("   libgcc's helpers by caller:")
+        for sym, n in [x for x in seg.most_common() if " <- " in x[0]][: a.top]:
             print(f"   {n / BENCH_STEPS:8.1f}  {100 * n / total:5.1f} %  {sym}")
 
 

@@ -24,7 +24,8 @@ static inline int32_t ss_sat32(int64_t v)
 
 /* exp(-x) for x >= 0 given in Q16.16 (x < 32768), as Q1.30 in [0, 2^30]. exp(0) is exactly
  * 2^30; results are non-increasing in x; the absolute error is below 2^-26 (tests/c/test_fixed.c
- * checks every x on a 2^-12 grid against double precision). Negative x saturates to 1.0. */
+ * checks every input against double precision: 2^-28.6). A table of 2^(-i/256) and a cubic, no
+ * division (docs/fixed-point.md). Negative x saturates to 1.0. */
 int32_t ss_exp_neg_q16_q30(int32_t x_q16);
 
 /* exp(-x) for x >= 0 given with 32 fraction bits (unsigned, x < 2^32), as Q1.30. The part below

@@ -1,57 +1,70 @@
 #include "ss_fixed.h"
 #include "ss_fixed_ops.h"
 
-/* v / 2^s rounded toward minus infinity, as an arithmetic shift would, without shifting a
- * negative value (implementation-defined in C99): bit-exact on every target. */
-static int64_t shr_floor(int64_t v, int s)
-{
-    if (v >= 0) {
-        return v >> s;
-    }
-    return -((-v + (((int64_t)1 << s) - 1)) >> s);
-}
+/* 2^(-i/256) in Q30, rounded to nearest: the exponential's table (1 KB). */
+static const uint32_t EXP2_NEG_Q30[256] = {
+    1073741824u, 1070838486u, 1067942999u, 1065055341u, 1062175491u, 1059303428u, 1056439131u, 1053582579u,
+    1050733751u, 1047892626u, 1045059183u, 1042233401u, 1039415261u, 1036604740u, 1033801819u, 1031006477u,
+    1028218693u, 1025438448u, 1022665720u, 1019900489u, 1017142735u, 1014392438u, 1011649578u, 1008914134u,
+    1006186087u, 1003465416u, 1000752102u, 998046124u,  995347464u,  992656100u,  989972014u,  987295185u,
+    984625594u,  981963222u,  979308048u,  976660054u,  974019220u,  971385527u,  968758955u,  966139485u,
+    963527098u,  960921775u,  958323496u,  955732243u,  953147997u,  950570738u,  948000448u,  945437108u,
+    942880699u,  940331203u,  937788600u,  935252872u,  932724001u,  930201967u,  927686753u,  925178340u,
+    922676710u,  920181844u,  917693724u,  915212331u,  912737649u,  910269657u,  907808339u,  905353676u,
+    902905651u,  900464244u,  898029440u,  895601218u,  893179563u,  890764456u,  888355878u,  885953814u,
+    883558244u,  881169153u,  878786521u,  876410331u,  874040567u,  871677210u,  869320244u,  866969651u,
+    864625413u,  862287515u,  859955938u,  857630665u,  855311680u,  852998965u,  850692504u,  848392279u,
+    846098274u,  843810471u,  841528855u,  839253408u,  836984114u,  834720956u,  832463917u,  830212982u,
+    827968132u,  825729353u,  823496627u,  821269938u,  819049271u,  816834607u,  814625932u,  812423229u,
+    810226483u,  808035676u,  805850792u,  803671817u,  801498734u,  799331526u,  797170178u,  795014675u,
+    792865000u,  790721137u,  788583072u,  786450787u,  784324269u,  782203500u,  780088465u,  777979150u,
+    775875538u,  773777614u,  771685363u,  769598769u,  767517817u,  765442492u,  763372778u,  761308661u,
+    759250125u,  757197155u,  755149737u,  753107854u,  751071493u,  749040637u,  747015274u,  744995386u,
+    742980960u,  740971982u,  738968435u,  736970306u,  734977579u,  732990241u,  731008277u,  729031671u,
+    727060411u,  725094480u,  723133865u,  721178552u,  719228525u,  717283772u,  715344277u,  713410026u,
+    711481005u,  709557200u,  707638598u,  705725183u,  703816941u,  701913860u,  700015924u,  698123120u,
+    696235434u,  694352853u,  692475362u,  690602947u,  688735596u,  686873293u,  685016026u,  683163781u,
+    681316545u,  679474303u,  677637043u,  675804750u,  673977412u,  672155015u,  670337545u,  668524990u,
+    666717336u,  664914570u,  663116678u,  661323648u,  659535466u,  657752119u,  655973594u,  654199878u,
+    652430958u,  650666822u,  648907455u,  647152846u,  645402981u,  643657847u,  641917433u,  640181724u,
+    638450708u,  636724373u,  635002706u,  633285695u,  631573326u,  629865587u,  628162466u,  626463950u,
+    624770026u,  623080683u,  621395908u,  619715688u,  618040012u,  616368866u,  614702239u,  613040119u,
+    611382493u,  609729349u,  608080675u,  606436459u,  604796689u,  603161352u,  601530438u,  599903933u,
+    598281827u,  596664106u,  595050760u,  593441776u,  591837143u,  590236848u,  588640881u,  587049229u,
+    585461881u,  583878825u,  582300049u,  580725543u,  579155293u,  577589290u,  576027521u,  574469975u,
+    572916640u,  571367506u,  569822560u,  568281792u,  566745190u,  565212742u,  563684439u,  562160268u,
+    560640218u,  559124278u,  557612438u,  556104685u,  554601009u,  553101399u,  551605844u,  550114332u,
+    548626854u,  547143398u,  545663953u,  544188508u,  542717053u,  541249576u,  539786068u,  538326517u};
 
-/* x / n truncated toward zero, exactly as C's `/`, for |x| < 2^31 and n in [2, 7]: a multiply by
- * m = ceil(2^34 / n). With e = m n - 2^34 <= n - 1, x m / 2^34 = x / n + x e / (n 2^34) and
- * x e < 2^31 x 8 = 2^34 keeps the floor (Granlund & Montgomery 1994). Why: the M0+ has no divide
- * instruction, and each 64-bit `/` is a call to __aeabi_ldivmod; the exponential did seven. */
-static int64_t div_small(int64_t x, int n)
-{
-    static const uint64_t m[8] = {0u,          0u,          8589934592u, 5726623062u,
-                                  4294967296u, 3435973837u, 2863311531u, 2454267027u};
-    const uint64_t a = (x < 0) ? (uint64_t)(-x) : (uint64_t)x;
-    const int64_t q = (int64_t)((a * m[n]) >> 34);
-    return (x < 0) ? -q : q;
-}
-
-/* exp(-x) = 2^-(x log2 e) = 2^-k * 2^-f with k whole and f in [0, 1); 2^-f = 2^-1/2 * e^(-u ln2)
- * with u = f - 1/2 in [-1/2, 1/2), |u ln2| <= 0.347: a Taylor polynomial of degree 7 there has a
- * remainder below 0.347^8 / 8! = 5.6e-9 (2^-27.4). All in Q30 with 64-bit products. */
+/* exp(-x) = 2^-(x log2 e) = 2^-k 2^(-i/256) e^(-t): k whole, i/256 the fraction's top 8 bits from
+ * the table, and t = r ln2 for the fraction's rest r < 2^-8, so t < 2^-8.5 and e^-t = 1 - t + t^2/2
+ * - t^3/6 to within t^4/24 < 2^-40. Four 32 x 32 -> 64 products (the Taylor polynomial of degree 7
+ * it replaces took 16, and 6 of them by 2^34/n for its divisions: 1 000 instructions an exponential
+ * on the M0+, BENCHMARKS.md). */
 int32_t ss_exp_neg_q16_q30(int32_t x_q16)
 {
     if (x_q16 <= 0) {
         return SS_Q30_ONE;
     }
-    /* y = x * log2(e) with 46 fraction bits (Q16 x Q30), so the fraction keeps 30 of them */
-    const int64_t y = (int64_t)x_q16 * 1549082005LL; /* log2(e) in Q30; < 2^62 for x < 2^31 */
-    const int64_t k = y >> 46;
-    if (k >= 31) {
+    /* y = x log2(e) with 46 fraction bits (Q16 x Q30; log2(e) in Q30 = 1549082005), < 2^62 */
+    const uint64_t y = ss_mul_u32_u64((uint32_t)x_q16, 1549082005u);
+    const uint32_t k = (uint32_t)(y >> 46);
+    if (k >= 31u) {
         return 0; /* below 2^-31: zero in Q30 */
     }
-    const int64_t f_q30 = (y >> 16) & (SS_Q30_ONE - 1);
-    /* w = -u ln2 in Q30, u = f - 1/2; ln2 in Q30 = 744261118 */
-    const int64_t u_q30 = f_q30 - ((int64_t)1 << 29);
-    const int64_t w = -shr_floor(u_q30 * 744261118LL, 30);
-    /* e^w by Horner: 1 + w(1 + w/2(1 + w/3(1 + ... w/7))); |w p| / 2^30 < 0.35 x 1.42 x 2^30, so
-     * div_small's |x| < 2^31 holds */
-    int64_t p = SS_Q30_ONE;
-    for (int n = 7; n >= 2; --n) {
-        p = SS_Q30_ONE + div_small(shr_floor(w * p, 30), n);
-    }
-    p = SS_Q30_ONE + shr_floor(w * p, 30);
-    /* times 2^-1/2 (Q30: 759250125) and 2^-k, rounded */
-    const int64_t r = (p * 759250125LL) >> 30;
-    return (int32_t)((r + (k > 0 ? ((int64_t)1 << (k - 1)) : 0)) >> k);
+    const uint32_t f = (uint32_t)(y >> 16) & (SS_Q30_ONE - 1u); /* the fraction in Q30 */
+    const uint32_t r = f & ((1u << 22) - 1u);                   /* below 2^-8 */
+    /* t = r ln2 (ln2 in Q30 = 744261118), below 2^21.5 in Q30; t^2 / 2 below 2^13; t^3 / 6 below
+     * 4 units: its factor t taken to 14 bits (t / 2^8) changes it by far less than a unit */
+    const uint32_t t = (uint32_t)(ss_mul_u32_u64(r, 744261118u) >> 30);
+    const uint32_t t2 = (uint32_t)(ss_mul_u32_u64(t, t) >> 31);
+    const uint32_t t3 =
+        (((t2 * (t >> 8)) >> 22) * 21846u) >> 16;   /* / 3, exact below 2^15 (no divide on the M0+) */
+    const uint32_t poly = SS_Q30_ONE - t + t2 - t3; /* e^-t in Q30, in (2^30 0.997, 2^30] */
+    /* times 2^(-i/256) and 2^-k, rounded once */
+    const uint64_t m = ss_mul_u32_u64(EXP2_NEG_Q30[f >> 22], poly); /* Q60, below 2^60 */
+    const int sh = 30 + (int)k;
+    return (int32_t)((m + ((uint64_t)1 << (sh - 1))) >> sh);
 }
 
 int32_t ss_exp_neg_q32_q30(uint64_t x_q32)
