@@ -8,8 +8,25 @@
 #include "ss_actuator_q.h"
 #include "ss_fixed.h"
 
-/* Slider position after two cycles at 2000 Hz, 100 V, rise 0.95, Table I q config (m at 2^-40). */
+/* Slider position after two cycles at 2000 Hz, 100 V, rise 0.95, Table I q config (m at 2^-40);
+ * the same under LuGre, and under LuGre with the effects below (test_q_bit_exact_reference). */
 #define SS_Q_CHECK_X_SLIDER 9386156LL
+#define SS_Q_CHECK_X_SLIDER_LUGRE 9146861LL
+#define SS_Q_CHECK_X_SLIDER_EFFECTS 7279828LL
+
+/* The slider's position after the two cycles of `w` from rest under cfg; -1 if a call fails. */
+static int64_t two_cycles(const ss_actuator_config_q_t *cfg, const ss_waveform_config_q_t *w)
+{
+    ss_waveform_state_q_t ws;
+    static ss_actuator_state_q_t st;
+    uint32_t rows = 0;
+    if (ss_waveform_init_q(w, cfg->dt_q40, &ws) != SS_OK ||
+        ss_actuator_init_q(cfg, &st, ss_waveform_value_q(w, &ws)) != SS_OK ||
+        ss_actuator_run_q(cfg, &st, w, &ws, 1000u, 250u, NULL, &rows) != SS_OK) {
+        return -1;
+    }
+    return st.x_slider_q40;
+}
 
 void SysTick_Handler(void);
 void SysTick_Handler(void)
@@ -97,6 +114,14 @@ int main(void)
     /* a contact a quarter stronger under a positive load, as strong unloaded */
     fr.asymmetry_q30 = 1 << 28;
     ok = ok && ss_asymmetric_q(&fr, 4 << 24, 1) == 5 << 24 && ss_asymmetric_q(&fr, 4 << 24, 0) == 4 << 24;
+    /* LuGre, then LuGre with the effects (the sensor's scale aside): the host's bits */
+    ss_actuator_config_q_t lugre = cfg;
+    lugre.friction_model = SS_FRICTION_Q_LUGRE;
+    ok = ok && two_cycles(&lugre, &w) == SS_Q_CHECK_X_SLIDER_LUGRE;
+    ss_actuator_config_q_t lfx = fx;
+    lfx.friction_model = SS_FRICTION_Q_LUGRE;
+    lfx.effects.sensor_scale_q30 = 0;
+    ok = ok && two_cycles(&lfx, &w) == SS_Q_CHECK_X_SLIDER_EFFECTS;
     semihost_exit(ok ? 0 : 1);
     return 0;
 }

@@ -130,8 +130,10 @@ ss_status_t ss_actuator_init_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
 static void kick(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st)
 {
     const int64_t on_slider = (int64_t)st->force_q24 + cfg->effects.load_q24;
-    st->v_rod_q28 = ss_sat32(st->v_rod_q28 - ss_shr_round((int64_t)st->force_q24 * cfg->kick_rod_q40, 36));
-    st->v_slider_q28 = ss_sat32(st->v_slider_q28 + ss_shr_round(on_slider * cfg->kick_slider_q40, 36));
+    st->v_rod_q28 =
+        ss_sat32(st->v_rod_q28 - ss_shr_round(ss_mul_s32_s64(st->force_q24, cfg->kick_rod_q40), 36));
+    st->v_slider_q28 =
+        ss_sat32(st->v_slider_q28 + ss_shr_round(ss_mul_i64_i32(on_slider, cfg->kick_slider_q40), 36));
     const ss_effects_config_q_t *e = &cfg->effects;
     if (e->base_kick_q40 != 0) {
         /* the base's spring-damper, and the stack pushing it with -F_p (it pushes the rod with F_p):
@@ -218,20 +220,22 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     const int64_t a1 = (int64_t)x_p1 + x_b1;
     const int64_t dxp = ss_sat32(a1 - a0);
     /* b = dxp / dt, m/s at 2^-28: m at 2^-40 times 1/s at 2^-7 is m/s at 2^-47 */
-    const int64_t b = ss_sat32(ss_shr_round(dxp * cfg->inv_dt_q47, 47 - SS_QF_DXDT));
+    const int64_t b = ss_sat32(ss_shr_round(ss_mul_i64_i32(dxp, cfg->inv_dt_q47), 47 - SS_QF_DXDT));
     /* c (b - v_b) / k, m at 2^-40: from the strain's change (the anchor's, without a base) */
     const int64_t lag =
-        ss_shr_round((int64_t)cfg->lag_q24 * ss_sat32((int64_t)x_p1 - st->x_p_q40), SS_QF_LAG);
+        ss_shr_round(ss_mul_s32_s64(cfg->lag_q24, ss_sat32((int64_t)x_p1 - st->x_p_q40)), SS_QF_LAG);
     const int64_t e0 = ss_sat32((int64_t)st->x_rod_q40 - (a0 - lag));
     const int64_t ed0 = ss_sat32((int64_t)st->v_rod_q28 - b);
     const int32_t *phi = cfg->phi_q28;
     /* e1 = phi00 e0 + (phi01/dt) (e0' dt);  e1' = (phi10 dt) e0 / dt + phi11 e0' */
-    const int64_t w = ss_sat32(ss_shr_round(phi[1] * ed0, 28)); /* m/s at 2^-28 */
-    const int64_t e1 = ss_shr_round(phi[0] * e0, 28) + ss_shr_round(w * dt, 28);
-    const int64_t ed1 =
-        ss_mul_shr_round_wide(phi[2] * e0, cfg->inv_dt_q47, 47) + ss_shr_round(phi[3] * ed0, 28);
+    /* e0, ed0 and w are saturated to 32 bits: every product here is of two 32-bit values */
+    const int64_t w = ss_sat32(ss_shr_round(ss_mul_i64_i32(ed0, phi[1]), 28)); /* m/s at 2^-28 */
+    const int64_t e1 =
+        ss_shr_round(ss_mul_i64_i32(e0, phi[0]), 28) + ss_shr_round(ss_mul_i64_i32(w, cfg->dt_q40), 28);
+    const int64_t ed1 = ss_mul_shr_round_wide(ss_mul_i64_i32(e0, phi[2]), cfg->inv_dt_q47, 47) +
+                        ss_shr_round(ss_mul_i64_i32(ed0, phi[3]), 28);
     const int32_t x_rod1 = ss_sat32(a1 - lag + e1);
-    const int32_t dx_slider = ss_sat32(ss_shr_round((int64_t)st->v_slider_q28 * dt, 28));
+    const int32_t dx_slider = ss_sat32(ss_shr_round(ss_mul_s32_s64(st->v_slider_q28, cfg->dt_q40), 28));
     const int32_t dx_rel = ss_sat32((int64_t)x_rod1 - st->x_rod_q40 - dx_slider);
     st->x_rod_q40 = x_rod1;
     st->v_rod_q28 = ss_sat32(b + ed1);

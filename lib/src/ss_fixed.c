@@ -74,9 +74,9 @@ int32_t ss_exp_neg_q32_q30(uint64_t x_q32)
         return 0;
     }
     const int64_t e_hi = ss_exp_neg_q16_q30((int32_t)hi);
-    const int64_t lo = (int64_t)(x_q32 & 0xFFFFu); /* units of 2^-32, below 2^-16 */
+    const uint32_t lo = (uint32_t)(x_q32 & 0xFFFFu); /* units of 2^-32, below 2^-16 */
     /* e_hi * (1 - lo): e_hi * lo < 2^30 * 2^16, no overflow; rounded to nearest */
-    return (int32_t)(e_hi - ((e_hi * lo + ((int64_t)1 << 31)) >> 32));
+    return (int32_t)(e_hi - (int64_t)((ss_mul_u32_u64((uint32_t)e_hi, lo) + ((uint64_t)1 << 31)) >> 32));
 }
 
 /* Seeds of ss_reciprocal_mantissa_q: 2^24 / (256.5 + i) rounded, 1 / the middle of the i-th of 256
@@ -152,8 +152,9 @@ int32_t ss_reciprocal_mantissa_q(uint32_t d, int *shift)
      * residual e = 2^60 - dn y0 is within 2^42.3, u = e / 2^15 + 2^31 fits 32 bits, and y0 e /
      * 2^59 is (y0 u - y0 2^31) / 2^44, rounded, unsigned and below 2^63. What is left: the
      * rounding and (2^-17.7)^2 of y, within 0.6 of 2^61 / dn over every dn */
-    const uint32_t u = (uint32_t)((((uint64_t)1 << 60) + ((uint64_t)1 << 46) - (uint64_t)dn * y0) >> 15);
-    const uint64_t c = (uint64_t)y0 * u + (((uint64_t)1 << 61) + ((uint64_t)1 << 43)) - ((uint64_t)y0 << 31);
+    const uint32_t u = (uint32_t)((((uint64_t)1 << 60) + ((uint64_t)1 << 46) - ss_mul_u32_u64(dn, y0)) >> 15);
+    const uint64_t c =
+        ss_mul_u32_u64(y0, u) + (((uint64_t)1 << 61) + ((uint64_t)1 << 43)) - ((uint64_t)y0 << 31);
     const uint64_t y = 2 * (uint64_t)y0 + (c >> 44) - ((uint64_t)1 << 17);
     *shift = 61 - n;
     return (int32_t)((y > (uint64_t)INT32_MAX) ? INT32_MAX : y);

@@ -37,6 +37,61 @@ static inline uint64_t ss_mul_u32_u64(uint32_t a, uint32_t b)
 #endif
 }
 
+/* a b, exact, for int32 a and b, from the halves of the magnitudes (|a b| <= 2^62). */
+static inline int64_t ss_mul_s32_s64_halves(int32_t a, int32_t b)
+{
+    const uint32_t ma = (a < 0) ? 0u - (uint32_t)a : (uint32_t)a;
+    const uint32_t mb = (b < 0) ? 0u - (uint32_t)b : (uint32_t)b;
+    const int64_t p = (int64_t)ss_mul_u32_u64_halves(ma, mb);
+    return ((a < 0) != (b < 0)) ? -p : p;
+}
+
+/* a b, exact: one SMULL on ARMv7-M and on the host, the halves on ARMv6-M. */
+static inline int64_t ss_mul_s32_s64(int32_t a, int32_t b)
+{
+#if defined(__ARM_ARCH_6M__)
+    return ss_mul_s32_s64_halves(a, b);
+#else
+    return (int64_t)a * b;
+#endif
+}
+
+/* a b for an int64 a (the product within 64 bits): where a fits 32 bits, as ss_mul_s32_s64 on
+ * ARMv6-M (a compare, then the halves); the plain product elsewhere. Many of the step's 64-bit
+ * values are 32-bit ones kept wide for the arithmetic around them. */
+static inline int64_t ss_mul_i64_i32(int64_t a, int32_t b)
+{
+#if defined(__ARM_ARCH_6M__)
+    if (a >= INT32_MIN && a <= INT32_MAX) {
+        return ss_mul_s32_s64_halves((int32_t)a, b);
+    }
+#endif
+    return a * b;
+}
+
+/* a b for int64 a and b (the product within 64 bits): the halves on ARMv6-M where both fit 32
+ * bits, the plain product elsewhere. */
+static inline int64_t ss_mul_i64(int64_t a, int64_t b)
+{
+#if defined(__ARM_ARCH_6M__)
+    if (a >= INT32_MIN && a <= INT32_MAX && b >= INT32_MIN && b <= INT32_MAX) {
+        return ss_mul_s32_s64_halves((int32_t)a, (int32_t)b);
+    }
+#endif
+    return a * b;
+}
+
+/* a b for uint64 a below 2^64 / b: as ss_mul_u32_u64 where a fits 32 bits. */
+static inline uint64_t ss_mul_u64_u32(uint64_t a, uint32_t b)
+{
+#if defined(__ARM_ARCH_6M__)
+    if ((a >> 32) == 0u) {
+        return ss_mul_u32_u64_halves((uint32_t)a, b);
+    }
+#endif
+    return a * b;
+}
+
 /* v / 2^s rounded to nearest (ties toward +infinity), 0 < s < 63. */
 static inline int64_t ss_shr_round(int64_t v, int s)
 {
@@ -53,9 +108,10 @@ static inline int64_t ss_shr_round(int64_t v, int s)
  * rounding. The q step's divisions by a constant go through it with a reciprocal. */
 static inline int64_t ss_mul_shr_round_wide(int64_t a, int32_t b, int s)
 {
-    const int64_t hi = a >> 31; /* floor: hi 2^31 + lo == a, lo in [0, 2^31) */
+    const int64_t hi = a >> 31; /* floor: hi 2^31 + lo == a, lo in [0, 2^31), hi within int32 */
     const int64_t lo = a - hi * ((int64_t)1 << 31);
-    return ss_shr_round(hi * b + ss_shr_round(lo * b, 31), s - 31);
+    return ss_shr_round(ss_mul_s32_s64((int32_t)hi, b) + ss_shr_round(ss_mul_s32_s64((int32_t)lo, b), 31),
+                        s - 31);
 }
 
 /* A reciprocal made in the step, for a divisor that is not a config constant (the Stribeck level
@@ -72,7 +128,7 @@ int32_t ss_reciprocal_mantissa_q(uint32_t d, int *shift);
 static inline int64_t ss_mul_recip_q(int32_t a, int32_t m, int s)
 {
     const uint32_t mag = (a < 0) ? (uint32_t)0 - (uint32_t)a : (uint32_t)a;
-    const int64_t q = (int64_t)((((uint64_t)mag * (uint32_t)m >> (s - 1)) + 1u) >> 1);
+    const int64_t q = (int64_t)(((ss_mul_u32_u64(mag, (uint32_t)m) >> (s - 1)) + 1u) >> 1);
     return (a < 0) ? -q : q;
 }
 
@@ -84,7 +140,7 @@ static inline uint64_t ss_mul_shr_round_u49(uint64_t a, int32_t m, int s)
     const uint32_t hi = (uint32_t)(a >> 17);
     const uint32_t lo = (uint32_t)a & (((uint32_t)1 << 17) - 1u);
     const uint64_t sum =
-        (uint64_t)hi * (uint32_t)m + (((uint64_t)lo * (uint32_t)m + ((uint64_t)1 << 16)) >> 17);
+        ss_mul_u32_u64(hi, (uint32_t)m) + ((ss_mul_u32_u64(lo, (uint32_t)m) + ((uint64_t)1 << 16)) >> 17);
     return ((sum >> (s - 18)) + 1u) >> 1;
 }
 
@@ -163,7 +219,8 @@ static inline int32_t ss_inv_dt_q47(int32_t dt_q40)
 /* dx / dt in m/s at 2^-28 (saturated) from dx in m at 2^-40 and 1/dt in 1/s at 2^-7. */
 static inline int32_t ss_velocity_q28(int64_t dx_q40, int32_t inv_dt_q47)
 {
-    const int64_t v = ss_shr_round(ss_clamp64(dx_q40, -INT32_MAX, INT32_MAX) * inv_dt_q47, 47 - SS_QF_DXDT);
+    const int64_t v = ss_shr_round(
+        ss_mul_s32_s64((int32_t)ss_clamp64(dx_q40, -INT32_MAX, INT32_MAX), inv_dt_q47), 47 - SS_QF_DXDT);
     return (int32_t)ss_clamp64(v, -INT32_MAX, INT32_MAX);
 }
 

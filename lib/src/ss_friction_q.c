@@ -107,14 +107,14 @@ int64_t ss_asymmetric_q(const ss_friction_config_q_t *cfg, int64_t force_q24, in
     }
     /* |force| < 2^32 (the int32 sum of two saturated terms) times < 2^31: within 64 bits */
     const int64_t factor = SS_Q30_ONE + ((load > 0) ? cfg->asymmetry_q30 : -(int64_t)cfg->asymmetry_q30);
-    return ss_shr_round(force_q24 * factor, 30);
+    return ss_shr_round(ss_mul_i64_i32(force_q24, (int32_t)factor), 30); /* factor in (0.1, 1.9) x 2^30 */
 }
 
 /* r = |v| / vs in Q16.16, clamped where exp(-r^2) is zero anyway: m/s at 2^-28 times s/m at 2^-17
  * is a pure number at 2^-45. */
 static int64_t stribeck_ratio_q16(const ss_friction_config_q_t *cfg, int32_t v_q28)
 {
-    const int64_t r = ss_shr_round(ss_abs64(v_q28) * cfg->inv_vs_q45, 29);
+    const int64_t r = ss_shr_round(ss_mul_i64_i32(ss_abs64(v_q28), cfg->inv_vs_q45), 29);
     return (r > SS_Q_STRIBECK_R_MAX_Q16) ? SS_Q_STRIBECK_R_MAX_Q16 : r;
 }
 
@@ -123,9 +123,10 @@ int32_t ss_stribeck_q(const ss_friction_config_q_t *cfg, int32_t v_q28)
     if (v_q28 == 0) {
         return cfg->fs_q24;
     }
+    /* r in [0, 2^24] (clamped), e in [0, 2^30], Fs - Fc in [0, Fs]: 32-bit products */
     const int64_t r = stribeck_ratio_q16(cfg, v_q28);
-    const int64_t e = ss_exp_neg_q32_q30((uint64_t)(r * r)); /* r^2 in Q32, exact */
-    return (int32_t)(cfg->fc_q24 + ss_shr_round((int64_t)(cfg->fs_q24 - cfg->fc_q24) * e, 30));
+    const int64_t e = ss_exp_neg_q32_q30(ss_mul_u32_u64((uint32_t)r, (uint32_t)r)); /* r^2 in Q32, exact */
+    return (int32_t)(cfg->fc_q24 + ss_shr_round(ss_mul_s32_s64(cfg->fs_q24 - cfg->fc_q24, (int32_t)e), 30));
 }
 
 int32_t ss_stribeck_slope_q(const ss_friction_config_q_t *cfg, int32_t v_q28)
@@ -141,13 +142,14 @@ int32_t ss_stribeck_with_slope_q(const ss_friction_config_q_t *cfg, int32_t v_q2
         *slope_q16 = 0;
         return cfg->fs_q24;
     }
-    const int64_t r = stribeck_ratio_q16(cfg, v_q28);
-    const int64_t e = ss_exp_neg_q32_q30((uint64_t)(r * r));                           /* r^2 in Q32, exact */
-    const int64_t excess = ss_shr_round((int64_t)(cfg->fs_q24 - cfg->fc_q24) * e, 30); /* N at 2^-24 */
+    const int64_t r = stribeck_ratio_q16(cfg, v_q28); /* as in ss_stribeck_q: 32-bit products */
+    const int64_t e = ss_exp_neg_q32_q30(ss_mul_u32_u64((uint32_t)r, (uint32_t)r)); /* r^2 in Q32, exact */
+    const int64_t excess =
+        ss_shr_round(ss_mul_s32_s64(cfg->fs_q24 - cfg->fc_q24, (int32_t)e), 30); /* N at 2^-24 */
     /* slope: (Fs - Fc) r e, then 2 x that / vs: N at 2^-24 times s/m at 2^-17, x 2 is N s/m at
      * 2^-40, to 2^-16. fre <= 0.43 (Fs - Fc) < 2^28 (the largest r e^-r^2): the product fits */
-    const int64_t fre = ss_shr_round(excess * r, 16);
-    const int64_t slope = ss_shr_round(fre * cfg->inv_vs_q45, 24);
+    const int64_t fre = ss_shr_round(ss_mul_i64_i32(excess, (int32_t)r), 16);
+    const int64_t slope = ss_shr_round(ss_mul_i64_i32(fre, cfg->inv_vs_q45), 24);
     *slope_q16 = ss_sat32((v_q28 > 0) ? -slope : slope);
     return (int32_t)(cfg->fc_q24 + excess);
 }

@@ -9,7 +9,8 @@
  * (2^29); |dx| held below 2^31 keeps sigma0 |dx| below 2^62, as the wide product needs. */
 static uint64_t exponent_fs_q32(const ss_friction_config_q_t *cfg, int64_t dx_q40, int halves)
 {
-    const int64_t num = (int64_t)cfg->sigma0_n_per_m * ss_clamp64(ss_abs64(dx_q40), 0, INT32_MAX);
+    const int64_t num =
+        ss_mul_s32_s64(cfg->sigma0_n_per_m, (int32_t)ss_clamp64(ss_abs64(dx_q40), 0, INT32_MAX));
     return (uint64_t)ss_mul_shr_round_wide(num, cfg->inv_fs_q48, 32 + halves);
 }
 
@@ -18,7 +19,7 @@ static uint64_t exponent_fs_q32(const ss_friction_config_q_t *cfg, int64_t dx_q4
 static uint64_t exponent_q32(const ss_friction_config_q_t *cfg, int64_t dx_q40, int64_t den_q24)
 {
     /* |dx| < 2^32 and sigma0 < 2^31: the product fits */
-    const uint64_t num = (uint64_t)cfg->sigma0_n_per_m * (uint64_t)ss_abs64(dx_q40);
+    const uint64_t num = ss_mul_u64_u32((uint64_t)ss_abs64(dx_q40), (uint32_t)cfg->sigma0_n_per_m);
     int sh = 0;
     const int32_t m = ss_reciprocal_mantissa_q((uint32_t)den_q24, &sh);
     return ss_ratio_x65536_recip(num, (uint64_t)den_q24, m, sh);
@@ -36,9 +37,13 @@ static int64_t breakaway_gate_q30(const ss_friction_config_q_t *cfg, int32_t fm_
     if (over >= cfg->fs_q24) {
         return SS_Q30_ONE;
     }
-    const int64_t t = ss_shr_round(over * cfg->inv_fs_q48, 48 - 30); /* over / Fs in Q30 */
-    const int64_t t2 = ss_shr_round(t * t, 30);
-    return ss_shr_round(t2 * (3 * (int64_t)SS_Q30_ONE - 2 * t), 30);
+    /* 0 < over < Fs < 2^31, so t in (0, 2^30]: every product below is of 32-bit values */
+    const int64_t t =
+        ss_shr_round(ss_mul_s32_s64((int32_t)over, cfg->inv_fs_q48), 48 - 30); /* over / Fs, Q30 */
+    const int64_t t2 = ss_shr_round(ss_mul_s32_s64((int32_t)t, (int32_t)t), 30);
+    return (
+        int64_t)((ss_mul_u32_u64((uint32_t)t2, (uint32_t)(3 * (int64_t)SS_Q30_ONE - 2 * t)) + (1u << 29)) >>
+                 30);
 }
 
 ss_status_t ss_ls_init_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
@@ -92,19 +97,22 @@ static void close_loops(ss_ls_state_q_t *st)
     }
 }
 
-/* Masing branches of phi(u) = Fs (1 - exp(-sigma0 u / Fs)). */
+/* Masing branches of phi(u) = Fs (1 - exp(-sigma0 u / Fs)); 1 - e in [0, 2^30] (Q30), a 32-bit
+ * factor. */
 static void eval_branch(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
 {
     const int64_t fs = cfg->fs_q24;
     if (st->depth == 0u) {
         const int64_t u = (int64_t)st->x_q40 - st->x0_q40;
         const int64_t e = ss_exp_neg_q32_q30(exponent_fs_q32(cfg, u, 0));
-        st->fm_q24 = (int32_t)(ss_sign32(u) * ss_shr_round(fs * (SS_Q30_ONE - e), 30));
+        st->fm_q24 =
+            (int32_t)(ss_sign32(u) * ss_shr_round(ss_mul_i64_i32(fs, (int32_t)(SS_Q30_ONE - e)), 30));
         st->kt_q30 = (int32_t)e;
     } else {
         const ss_ls_reversal_q_t *r = &st->rev[st->depth - 1u];
         const int64_t e = ss_exp_neg_q32_q30(exponent_fs_q32(cfg, (int64_t)st->x_q40 - r->x_q40, 1));
-        const int64_t fm = r->f_q24 + ((st->dir > 0) ? 1 : -1) * ss_shr_round(2 * fs * (SS_Q30_ONE - e), 30);
+        const int64_t fm = r->f_q24 + ((st->dir > 0) ? 1 : -1) *
+                                          ss_shr_round(ss_mul_i64_i32(2 * fs, (int32_t)(SS_Q30_ONE - e)), 30);
         st->fm_q24 = (int32_t)ss_clamp64(fm, -fs, fs); /* rounding must not push |F_M| past Fs */
         st->kt_q30 = (int32_t)e;
     }
@@ -143,23 +151,24 @@ void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
     }
     /* elastic-plastic split: dF_M / sigma0 in m at 2^-40 is dF_M [2^-24 N] times 1/sigma0 [m/N at
      * 2^-47], to 2^-40; |dF_M| <= 2 Fs < 2^30: the product fits */
-    int64_t slip =
-        dx_q40 - ss_shr_round(((int64_t)st->fm_q24 - fm_old) * cfg->inv_sigma0_q47, 47 - SS_QF_F_OVER_K);
+    int64_t slip = dx_q40 - ss_shr_round(ss_mul_i64_i32((int64_t)st->fm_q24 - fm_old, cfg->inv_sigma0_q47),
+                                         47 - SS_QF_F_OVER_K);
     if ((slip > 0 && dx_q40 < 0) || (slip < 0 && dx_q40 > 0)) {
         slip = 0; /* rounding only: the tangent stiffness never exceeds sigma0 */
     }
     /* the gate's mean over the step, as the float step (ss_ls_friction_f32.c) */
     const int64_t gate =
         ss_shr_round(breakaway_gate_q30(cfg, fm_old) + breakaway_gate_q30(cfg, st->fm_q24), 1);
-    slip = ss_shr_round(slip * gate, 30);
+    slip = ss_shr_round(ss_mul_i64_i32(slip, (int32_t)gate), 30); /* gate in [0, 2^30] */
     if (slip == 0) {
         return; /* no gross slip: the level keeps its value (exp(0) = 1) */
     }
-    /* LuGre in the slip, exact for a slip velocity frozen over the step */
+    /* LuGre in the slip, exact for a slip velocity frozen over the step (decay in [0, 2^30]) */
     const int32_t v_slip = ss_velocity_q28(slip, inv_dt_q47);
     const int64_t g = ss_stribeck_q(cfg, v_slip);
     const int64_t decay = ss_exp_neg_q32_q30(exponent_q32(cfg, slip, g));
-    st->level_q24 = (int32_t)(g + ss_shr_round(((int64_t)st->level_q24 - g) * decay, 30));
+    st->level_q24 =
+        (int32_t)(g + ss_shr_round(ss_mul_i64_i32((int64_t)st->level_q24 - g, (int32_t)decay), 30));
 }
 
 int32_t ss_ls_step_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int32_t dx_q40, int32_t dt_q40)
@@ -178,9 +187,10 @@ int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_
                          int32_t *dfdv_q16)
 {
     /* gross-slip share of v: (1 - kt/sigma0) alpha, Q30 */
-    const int64_t share =
-        ss_shr_round((SS_Q30_ONE - (int64_t)st->kt_q30) * breakaway_gate_q30(cfg, st->fm_q24), 30);
-    const int32_t vp = (int32_t)ss_shr_round((int64_t)v_q28 * share, 30);
+    const int64_t share = ss_shr_round(
+        ss_mul_i64_i32(SS_Q30_ONE - (int64_t)st->kt_q30, (int32_t)breakaway_gate_q30(cfg, st->fm_q24)), 30);
+    const int32_t vp =
+        (int32_t)ss_shr_round(ss_mul_s32_s64(v_q28, (int32_t)share), 30); /* share in [0, 2^30] */
     int32_t slope = 0;
     const int64_t g = (dfdv_q16 != NULL) ? ss_stribeck_with_slope_q(cfg, vp, &slope) : ss_stribeck_q(cfg, vp);
     /* 1/g = m 2^-sh, once for both quotients by g: g in [Fc, Fs] within (2^11, 2^29], so sh in
@@ -189,22 +199,23 @@ int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_
     const int32_t m = ss_reciprocal_mantissa_q((uint32_t)g, &sh);
     const int64_t ratio = ss_mul_recip_q(st->level_q24, m, sh - 30); /* s / g, Q30 */
     const int64_t one_m = SS_Q30_ONE - ratio;
-    const int64_t zdot = ss_shr_round(vp * one_m, 30); /* m/s at 2^-28 */
+    const int64_t zdot = ss_shr_round(ss_mul_i64_i32(one_m, vp), 30); /* m/s at 2^-28 */
     if (dfdv_q16 != NULL) {
         /* d(dz/dt)/dvp = (1 - s/g) + vp s g' / g^2; vp g' / g is a pure number at 2^-20, from vp g'
          * rounded to 2^-24 N (|vp g'| <= 0.74 (Fs - Fc) < 2^29 there: the product with m fits) */
-        const int64_t vg = ss_mul_recip_q(ss_sat32(ss_shr_round((int64_t)vp * slope, 20)), m, sh - 20);
-        const int64_t dzdvp = one_m + ss_shr_round(ratio * vg, 20);
-        const int64_t s1 = ss_shr_round((int64_t)cfg->sigma1_q16 * share, 30);
-        *dfdv_q16 =
-            ss_sat32(ss_asymmetric_q(cfg, ss_shr_round(s1 * dzdvp, 30), st->fm_q24) + cfg->sigma2_q16);
+        const int64_t vg = ss_mul_recip_q(ss_sat32(ss_shr_round(ss_mul_s32_s64(vp, slope), 20)), m, sh - 20);
+        const int64_t dzdvp = one_m + ss_shr_round(ss_mul_i64(ratio, vg), 20);
+        const int64_t s1 = ss_shr_round(ss_mul_s32_s64(cfg->sigma1_q16, (int32_t)share), 30);
+        *dfdv_q16 = ss_sat32(ss_asymmetric_q(cfg, ss_shr_round(ss_mul_i64(s1, dzdvp), 30), st->fm_q24) +
+                             cfg->sigma2_q16);
     }
     /* (s / Fs) F_M + sigma1 dz/dt (the contact, asymmetric by the sign of F_M) + sigma2 v; Q16 N s/m
      * times 2^-28 m/s is N at 2^-44 */
-    const int64_t contact = ss_mul_shr_round_wide((int64_t)st->level_q24 * st->fm_q24, cfg->inv_fs_q48, 48) +
-                            ss_shr_round((int64_t)cfg->sigma1_q16 * zdot, 20);
+    const int64_t contact =
+        ss_mul_shr_round_wide(ss_mul_s32_s64(st->level_q24, st->fm_q24), cfg->inv_fs_q48, 48) +
+        ss_shr_round(ss_mul_i64_i32(zdot, cfg->sigma1_q16), 20);
     return ss_sat32(ss_asymmetric_q(cfg, contact, st->fm_q24) +
-                    ss_shr_round((int64_t)cfg->sigma2_q16 * v_q28, 20));
+                    ss_shr_round(ss_mul_s32_s64(cfg->sigma2_q16, v_q28), 20));
 }
 
 ss_status_t ss_ls_run_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, const int32_t *dx_q40,

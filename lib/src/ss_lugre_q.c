@@ -46,22 +46,23 @@ static int32_t force_at(const ss_friction_config_q_t *cfg, const ss_lugre_state_
     const int32_t m = ss_reciprocal_mantissa_q((uint32_t)g, &sh);
     /* the bristle force sigma0 z, N at 2^-40 */
     const int64_t sz =
-        ss_clamp64((int64_t)cfg->sigma0_n_per_m * st->z_q40, -SS_LUGRE_Q_SZ_MAX, SS_LUGRE_Q_SZ_MAX);
+        ss_clamp64(ss_mul_s32_s64(cfg->sigma0_n_per_m, st->z_q40), -SS_LUGRE_Q_SZ_MAX, SS_LUGRE_Q_SZ_MAX);
     const int64_t k = bristle_ratio_q30(sz, m, sh);
-    const int64_t zdot = v - ss_shr_round(ss_abs64(v) * k, 30);
+    const int64_t zdot = v - ss_shr_round(ss_mul_i64(ss_abs64(v), k), 30);
     if (dfdv_q16 != NULL) {
         /* d(dz/dt)/dv = 1 - sgn(v) sigma0 z / g + |v| (sigma0 z / g) g' / g; |v| g'/g at 2^-20, from
          * |v| g' rounded to 2^-24 N (as in the LS element) */
-        const int64_t vg = ss_mul_recip_q(ss_sat32(ss_shr_round(ss_abs64(v) * slope, 20)), m, sh - 20);
-        const int64_t dzdv = SS_Q30_ONE - ss_sign32(v) * k + ss_shr_round(k * vg, 20);
-        *dfdv_q16 =
-            ss_sat32(ss_asymmetric_q(cfg, ss_shr_round((int64_t)cfg->sigma1_q16 * dzdv, 30), st->z_q40) +
-                     cfg->sigma2_q16);
+        const int64_t vg =
+            ss_mul_recip_q(ss_sat32(ss_shr_round(ss_mul_i64_i32(ss_abs64(v), slope), 20)), m, sh - 20);
+        const int64_t dzdv = SS_Q30_ONE - ss_sign32(v) * k + ss_shr_round(ss_mul_i64(k, vg), 20);
+        *dfdv_q16 = ss_sat32(
+            ss_asymmetric_q(cfg, ss_shr_round(ss_mul_i64_i32(dzdv, cfg->sigma1_q16), 30), st->z_q40) +
+            cfg->sigma2_q16);
     }
     *zdot_q28 = zdot;
-    const int64_t contact = ss_shr_round(sz, 16) + ss_shr_round((int64_t)cfg->sigma1_q16 * zdot, 20);
+    const int64_t contact = ss_shr_round(sz, 16) + ss_shr_round(ss_mul_i64_i32(zdot, cfg->sigma1_q16), 20);
     return ss_sat32(ss_asymmetric_q(cfg, contact, st->z_q40) +
-                    ss_shr_round((int64_t)cfg->sigma2_q16 * v, 20));
+                    ss_shr_round(ss_mul_s32_s64(cfg->sigma2_q16, v_q28), 20));
 }
 
 void ss_lugre_advance_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, int32_t dx_q40,
@@ -74,13 +75,14 @@ void ss_lugre_advance_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *s
     const int32_t v = ss_velocity_q28(dx_q40, inv_dt_q47);
     const int64_t g = ss_stribeck_q(cfg, v);
     /* g / sigma0 in m at 2^-40: N at 2^-24 times m/N at 2^-47 is m at 2^-71 */
-    const int64_t z_ss = ss_sign32(dx_q40) * ss_shr_round(g * cfg->inv_sigma0_q47, 47 - SS_QF_F_OVER_K);
+    const int64_t z_ss =
+        ss_sign32(dx_q40) * ss_shr_round(ss_mul_i64_i32(g, cfg->inv_sigma0_q47), 47 - SS_QF_F_OVER_K);
     /* exponent sigma0 |dx| / g with 32 fraction bits, as in the LS element */
-    const uint64_t num = (uint64_t)cfg->sigma0_n_per_m * (uint64_t)ss_abs64(dx_q40);
+    const uint64_t num = ss_mul_u64_u32((uint64_t)ss_abs64(dx_q40), (uint32_t)cfg->sigma0_n_per_m);
     int sh = 0;
     const int32_t m = ss_reciprocal_mantissa_q((uint32_t)g, &sh);
-    const int64_t decay = ss_exp_neg_q32_q30(ss_ratio_x65536_recip(num, (uint64_t)g, m, sh));
-    st->z_q40 = ss_sat32(z_ss + ss_shr_round(((int64_t)st->z_q40 - z_ss) * decay, 30));
+    const int64_t decay = ss_exp_neg_q32_q30(ss_ratio_x65536_recip(num, (uint64_t)g, m, sh)); /* [0, 2^30] */
+    st->z_q40 = ss_sat32(z_ss + ss_shr_round(ss_mul_i64_i32((int64_t)st->z_q40 - z_ss, (int32_t)decay), 30));
 }
 
 int32_t ss_lugre_step_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, int32_t dx_q40,

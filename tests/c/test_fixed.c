@@ -206,7 +206,7 @@ static void test_exp_neg_error_bound(void **unused)
 
 /* Every Q16.16 input up to where the result is 0 (x = 21.5): non-increasing (the header's promise:
  * the table's steps and the polynomial must meet without a rise at the 256 joins), within the
- * grid test's bound; and the M0+'s product from 16-bit halves against the plain one. */
+ * grid test's bound; and the M0+'s products from 16-bit halves (unsigned, signed) against the plain ones. */
 static void test_exp_neg_every_input(void **unused)
 {
     (void)unused;
@@ -230,6 +230,12 @@ static void test_exp_neg_every_input(void **unused)
             assert_true(ss_mul_u32_u64_halves(edge[i], edge[j]) == (uint64_t)edge[i] * edge[j]);
         }
     }
+    static const int32_t sedge[] = {0, 1, -1, 0xFFFF, -0x10000, INT32_MAX, INT32_MIN, INT32_MIN + 1};
+    for (size_t i = 0; i < sizeof sedge / sizeof sedge[0]; ++i) {
+        for (size_t j = 0; j < sizeof sedge / sizeof sedge[0]; ++j) {
+            assert_true(ss_mul_s32_s64_halves(sedge[i], sedge[j]) == (int64_t)sedge[i] * sedge[j]);
+        }
+    }
     uint32_t a = 12345u;
     uint32_t b = 678910u;
     for (int i = 0; i < 1000000; ++i) {
@@ -237,6 +243,11 @@ static void test_exp_neg_every_input(void **unused)
         b = b * 22695477u + 1u;
         if (ss_mul_u32_u64_halves(a, b) != (uint64_t)a * b) {
             fail_msg("%u x %u: halves give a different product", a, b);
+        }
+        const int32_t sa = (int32_t)(a ^ 0x80000000u);
+        const int32_t sb = (int32_t)b;
+        if (ss_mul_s32_s64_halves(sa, sb) != (int64_t)sa * sb) {
+            fail_msg("%d x %d: signed halves give a different product", sa, sb);
         }
     }
 }

@@ -748,8 +748,25 @@ static void test_q_waveform(void **unused)
     assert_int_equal(ss_waveform_init_q(&wq, dt_q, &st), SS_ERR_RANGE);
 }
 
-/* The q arithmetic is bit-identical on every target: fw/q_check.c runs this same drive
- * on the Cortex-M0+ build and exits non-zero unless it lands on the same 2^-40 m. */
+/* q_check.c's effects: 0.25 N of load, 1 V a step of slew, a hysteresis of 0.25 over 0.95 um, a
+ * 20 g base, and the stack's stiffness and damping it needs. */
+static void q_check_effects(ss_actuator_config_q_t *fx)
+{
+    fx->effects.load_q24 = 1 << 22;
+    fx->effects.slew_q24 = 1 << 24;
+    fx->effects.hysteresis_alpha_q30 = 1 << 28;
+    fx->effects.hysteresis_width_q40 = 1 << 20;
+    fx->effects.hysteresis_inv_width_q48 = (int64_t)1 << 28;
+    fx->effects.base_kick_q40 = 27487791;
+    fx->effects.base_stiffness_n_per_m = 12633094;
+    fx->effects.base_damping_q16 = 3292990;
+    fx->effects.piezo_stiffness_n_per_m = 208000000;
+    fx->effects.piezo_damping_q16 = 406323;
+}
+
+/* The q arithmetic is bit-identical on every target: fw/q_check.c runs this same drive (under LS,
+ * LuGre, and LuGre with effects) on the Cortex-M0+ build, whose 32 x 32 -> 64 products are made
+ * from 16-bit halves, and exits non-zero unless it lands on the same 2^-40 m each time. */
 static void test_q_bit_exact_reference(void **unused)
 {
     (void)unused;
@@ -763,6 +780,20 @@ static void test_q_bit_exact_reference(void **unused)
     assert_int_equal(ss_actuator_run_q(&cfg, &st, &w, &ws, 1000u, 250u, NULL, &rows), SS_OK);
     /* SS_Q_CHECK_X_SLIDER in q_check.c: 8.54 um (9386164 while the step divided by Fs: 7 fm) */
     assert_true(st.x_slider_q40 == 9386156);
+    /* the same drive under LuGre, and under LuGre with a load, a slew limit, a hysteresis and a base
+     * (q_check.c's effects): SS_Q_CHECK_X_SLIDER_LUGRE and SS_Q_CHECK_X_SLIDER_EFFECTS */
+    ss_actuator_config_q_t lg = cfg;
+    lg.friction_model = SS_FRICTION_Q_LUGRE;
+    assert_int_equal(ss_waveform_init_q(&w, lg.dt_q40, &ws), SS_OK);
+    assert_int_equal(ss_actuator_init_q(&lg, &st, ss_waveform_value_q(&w, &ws)), SS_OK);
+    assert_int_equal(ss_actuator_run_q(&lg, &st, &w, &ws, 1000u, 250u, NULL, &rows), SS_OK);
+    assert_true(st.x_slider_q40 == 9146861); /* 8.32 um */
+    ss_actuator_config_q_t fx = lg;
+    q_check_effects(&fx);
+    assert_int_equal(ss_waveform_init_q(&w, fx.dt_q40, &ws), SS_OK);
+    assert_int_equal(ss_actuator_init_q(&fx, &st, ss_waveform_value_q(&w, &ws)), SS_OK);
+    assert_int_equal(ss_actuator_run_q(&fx, &st, &w, &ws, 1000u, 250u, NULL, &rows), SS_OK);
+    assert_true(st.x_slider_q40 == 7279828); /* 6.62 um */
 }
 
 static void test_q_abi_sizes(void **unused)
