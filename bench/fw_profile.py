@@ -14,6 +14,7 @@ their caller (the last function outside them that ran): which code's products or
 
     .venv/bin/python bench/fw_profile.py cortex-m3 q      (after bash bench/firmware_bench.sh)
     .venv/bin/python bench/fw_profile.py cortex-m4f f32
+    .venv/bin/python bench/fw_profile.py cortex-m0plus q --lines ss_actuator_step_q  (by line)
 """
 
 from __future__ import annotations
@@ -45,7 +46,9 @@ def entries(image: Path, names: tuple[str, ...]) -> set[int]:
     }
 
 
-def profile(target: str, variant: str) -> list[collections.Counter[str]]:
+def profile(
+    target: str, variant: str, lines_of: str = ""
+) -> tuple[list[collections.Counter[str]], list[collections.Counter[int]]]:
     image = ROOT / "build" / target / "fw" / IMAGES[variant]
     if not image.exists():
         sys.exit(f"{image} not found: run bash bench/firmware_bench.sh first")
@@ -64,21 +67,29 @@ def profile(target: str, variant: str) -> list[collections.Counter[str]]:
         # retranslates a block shorter where the instruction budget ends, at the same guest
         # address: so a block is known by its host address (the Trace line's pointer), bound to
         # the listing of its guest address that came just before its first execution.
-        listed: dict[int, tuple[int, str]] = {}  # guest address -> (instructions, function)
-        block: dict[str, tuple[int, str]] = {}  # host address -> (instructions, function)
+        listed: dict[
+            int, tuple[int, str, list[int]]
+        ] = {}  # guest address -> (count, function, pcs)
+        block: dict[str, tuple[int, str, list[int]]] = {}  # host address -> the same
         segments: list[collections.Counter[str]] = [collections.Counter()]
+        # per segment, instructions executed at each address of the function lines_of names
+        at_pc: list[collections.Counter[int]] = [collections.Counter()]
         block_pc, block_n, block_sym = -1, 0, ""
+        block_pcs: list[int] = []
         caller = "?"  # the last function outside libgcc's helpers: who called the helper running
         with open(fifo, errors="replace") as log:
             for line in log:
                 if line.startswith("0x") and block_sym:
+                    pc_i = int(line.split(":", 1)[0], 16)
                     if block_pc < 0:
-                        block_pc = int(line.split(":", 1)[0], 16)
+                        block_pc = pc_i
                     block_n += 1
+                    if block_sym == lines_of:
+                        block_pcs.append(pc_i)
                     continue
                 if block_pc >= 0:  # any other line ends a listing
-                    listed[block_pc] = (block_n, block_sym)
-                    block_pc, block_sym = -1, ""
+                    listed[block_pc] = (block_n, block_sym, block_pcs)
+                    block_pc, block_sym, block_pcs = -1, "", []
                 if line.startswith("Trace "):
                     host, rest = line.split(" ", 3)[2], line.split("[", 1)[1]
                     pc = int(rest.split("/", 2)[1], 16)
@@ -86,8 +97,10 @@ def profile(target: str, variant: str) -> list[collections.Counter[str]]:
                         block[host] = listed.pop(pc)
                     if pc in starts:
                         segments.append(collections.Counter())
-                    n, sym = block.get(host, (0, "?"))
+                        at_pc.append(collections.Counter())
+                    n, sym, pcs = block.get(host, (0, "?", []))
                     segments[-1][sym] += n
+                    at_pc[-1].update(pcs)
                     if sym.startswith("__"):
                         segments[-1][f"{sym} <- {caller}"] += n
                     else:
@@ -95,7 +108,22 @@ def profile(target: str, variant: str) -> list[collections.Counter[str]]:
                 elif line.startswith("IN:"):
                     block_pc, block_n, block_sym = -1, 0, line[3:].strip() or "?"
         proc.wait(timeout=60)
-    return segments
+    return segments, at_pc
+
+
+def source_lines(image: Path, counts: collections.Counter[int]) -> collections.Counter[str]:
+    """Instruction counts by source line (file:line of each address; inlined code at its own)."""
+    pcs = sorted(counts)
+    if not pcs:
+        return collections.Counter()
+    out = subprocess.run(
+        ["arm-none-eabi-addr2line", "-e", str(image), *(hex(a) for a in pcs)],
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    by_line: collections.Counter[str] = collections.Counter()
+    for a, where in zip(pcs, out.stdout.splitlines()):
+        by_line[where.rsplit("/", 1)[-1]] += counts[a]
+    return by_line
 
 
 def main() -> None:
@@ -103,9 +131,12 @@ def main() -> None:
     ap.add_argument("target", choices=sorted(BOARDS))
     ap.add_argument("variant", choices=sorted(IMAGES))
     ap.add_argument("--top", type=int, default=14, help="functions listed per model")
+    ap.add_argument("--lines", default="", metavar="FUNCTION", help="also its source lines' counts")
     a = ap.parse_args()
-    segments = profile(a.target, a.variant)[1:]  # before the first init: start-up
-    for name, seg in zip(("ls", "lugre", "gms"), segments):
+    segments, at_pc = profile(a.target, a.variant, a.lines)
+    segments, at_pc = segments[1:], at_pc[1:]  # before the first init: start-up
+    image = ROOT / "build" / a.target / "fw" / IMAGES[a.variant]
+    for name, seg, pcs in zip(("ls", "lugre", "gms"), segments, at_pc):
         total = sum(n for k, n in seg.items() if " <- " not in k)
         print(f"== {a.target} {a.variant} {name}: {total / BENCH_STEPS:.0f} instructions per step")
         for sym, n in [x for x in seg.most_common() if " <- " not in x[0]][: a.top]:
@@ -113,6 +144,10 @@ def main() -> None:
         print("   libgcc's helpers by caller:")
         for sym, n in [x for x in seg.most_common() if " <- " in x[0]][: a.top]:
             print(f"   {n / BENCH_STEPS:8.1f}  {100 * n / total:5.1f} %  {sym}")
+        if a.lines:
+            print(f"   {a.lines} by source line:")
+            for where, n in source_lines(image, pcs).most_common(a.top):
+                print(f"   {n / BENCH_STEPS:8.1f}  {where}")
 
 
 if __name__ == "__main__":
