@@ -189,25 +189,37 @@ int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_
     /* gross-slip share of v: (1 - kt/sigma0) alpha, Q30 */
     const int64_t share = ss_shr_round(
         ss_mul_i64_i32(SS_Q30_ONE - (int64_t)st->kt_q30, (int32_t)breakaway_gate_q30(cfg, st->fm_q24)), 30);
-    const int32_t vp =
-        (int32_t)ss_shr_round(ss_mul_s32_s64(v_q28, (int32_t)share), 30); /* share in [0, 2^30] */
-    int32_t slope = 0;
-    const int64_t g = (dfdv_q16 != NULL) ? ss_stribeck_with_slope_q(cfg, vp, &slope) : ss_stribeck_q(cfg, vp);
-    /* 1/g = m 2^-sh, once for both quotients by g: g in [Fc, Fs] within (2^11, 2^29], so sh in
-     * [42, 60] */
-    int sh = 0;
-    const int32_t m = ss_reciprocal_mantissa_q((uint32_t)g, &sh);
-    const int64_t ratio = ss_mul_recip_q(st->level_q24, m, sh - 30); /* s / g, Q30 */
-    const int64_t one_m = SS_Q30_ONE - ratio;
-    const int64_t zdot = ss_shr_round(ss_mul_i64_i32(one_m, vp), 30); /* m/s at 2^-28 */
+    /* dz/dt and the micro-damping's part of dF/dv; both 0 without gross slip (share 0: presliding
+     * and sticking, most steps), where the Stribeck level and its reciprocal are then not needed:
+     * the same bits without them */
+    int64_t zdot = 0;
+    int64_t damping = 0;
+    if (share != 0) {
+        const int32_t vp =
+            (int32_t)ss_shr_round(ss_mul_s32_s64(v_q28, (int32_t)share), 30); /* share in [0, 2^30] */
+        int32_t slope = 0;
+        const int64_t g =
+            (dfdv_q16 != NULL) ? ss_stribeck_with_slope_q(cfg, vp, &slope) : ss_stribeck_q(cfg, vp);
+        /* 1/g = m 2^-sh, once for both quotients by g: g in [Fc, Fs] within (2^11, 2^29], so sh in
+         * [42, 60] */
+        int sh = 0;
+        const int32_t m = ss_reciprocal_mantissa_q((uint32_t)g, &sh);
+        const int64_t ratio = ss_mul_recip_q(st->level_q24, m, sh - 30); /* s / g, Q30 */
+        const int64_t one_m = SS_Q30_ONE - ratio;
+        zdot = ss_shr_round(ss_mul_i64_i32(one_m, vp), 30); /* m/s at 2^-28 */
+        if (dfdv_q16 != NULL) {
+            /* d(dz/dt)/dvp = (1 - s/g) + vp s g' / g^2; vp g' / g is a pure number at 2^-20, from vp
+             * g' rounded to 2^-24 N (|vp g'| <= 0.74 (Fs - Fc) < 2^29 there: the product with m
+             * fits) */
+            const int64_t vg =
+                ss_mul_recip_q(ss_sat32(ss_shr_round(ss_mul_s32_s64(vp, slope), 20)), m, sh - 20);
+            const int64_t dzdvp = one_m + ss_shr_round(ss_mul_i64(ratio, vg), 20);
+            const int64_t s1 = ss_shr_round(ss_mul_s32_s64(cfg->sigma1_q16, (int32_t)share), 30);
+            damping = ss_shr_round(ss_mul_i64(s1, dzdvp), 30);
+        }
+    }
     if (dfdv_q16 != NULL) {
-        /* d(dz/dt)/dvp = (1 - s/g) + vp s g' / g^2; vp g' / g is a pure number at 2^-20, from vp g'
-         * rounded to 2^-24 N (|vp g'| <= 0.74 (Fs - Fc) < 2^29 there: the product with m fits) */
-        const int64_t vg = ss_mul_recip_q(ss_sat32(ss_shr_round(ss_mul_s32_s64(vp, slope), 20)), m, sh - 20);
-        const int64_t dzdvp = one_m + ss_shr_round(ss_mul_i64(ratio, vg), 20);
-        const int64_t s1 = ss_shr_round(ss_mul_s32_s64(cfg->sigma1_q16, (int32_t)share), 30);
-        *dfdv_q16 = ss_sat32(ss_asymmetric_q(cfg, ss_shr_round(ss_mul_i64(s1, dzdvp), 30), st->fm_q24) +
-                             cfg->sigma2_q16);
+        *dfdv_q16 = ss_sat32(ss_asymmetric_q(cfg, damping, st->fm_q24) + cfg->sigma2_q16);
     }
     /* (s / Fs) F_M + sigma1 dz/dt (the contact, asymmetric by the sign of F_M) + sigma2 v; Q16 N s/m
      * times 2^-28 m/s is N at 2^-44 */
