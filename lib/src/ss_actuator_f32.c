@@ -165,8 +165,8 @@ static float base_force(const ss_actuator_config_f32_t *cfg, const ss_actuator_s
 }
 
 /* Half a step of friction (and load, and base forces) on every body. */
-static void half_kick(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float inv_mr,
-                      float inv_mc)
+static inline void half_kick(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float inv_mr,
+                             float inv_mc)
 {
     const float half = 0.5f * cfg->dt_s;
     st->v_rod_m_per_s -= st->force_n * inv_mr * half;
