@@ -1,6 +1,7 @@
-/* Private integer helpers of the _q family (not public API): rounding shifts and divisions that
- * never shift a negative value and never divide by a value <= 0, so every target computes the same
- * bits (C99 leaves right shifts of negative values implementation-defined). */
+/* Private integer helpers of the _q family (not public API): exact widening products (ARMv6-M has no
+ * 32 x 32 -> 64 multiply), and rounding shifts and divisions that never shift a negative value and
+ * never divide by a value <= 0, so every target computes the same bits (C99 leaves right shifts of
+ * negative values implementation-defined). */
 #ifndef SS_FIXED_OPS_H
 #define SS_FIXED_OPS_H
 
