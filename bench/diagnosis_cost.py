@@ -1,7 +1,8 @@
 """What each diagnosis of the hit-rate tables costs, in model steps (deterministic, unlike wall
 time on a shared machine), by stage, and where its kept causes came from (the round, and whether
-from the first batch of fits of a screen or a later one). One JSON line a diagnosis, so a run
-can be compared with another line by line; the answers are diagnosis_bench.py's.
+from the first batch of fits of a screen or a later one), and its timeline (each progress message
+with the wall time and model steps before it). One JSON line a diagnosis, so a run can be compared
+with another line by line; the answers are diagnosis_bench.py's.
 
     PYTHONPATH=hil:bench .venv/bin/python bench/diagnosis_cost.py --generator own --out own.jsonl
     PYTHONPATH=hil:bench .venv/bin/python bench/diagnosis_cost.py --generator independent \\
@@ -116,11 +117,14 @@ def main() -> int:
                 case = name if a.generator == "independent" else f"own:{name}"
                 path = P.dataset(case, seed, a.rate_hz, a.data)
                 counter.by_stage.clear()
-
-                def say(msg: str) -> None:
-                    counter.stage = stage_of(msg)
-
+                timeline: list[tuple[float, float, str]] = []
                 t0 = time.perf_counter()
+
+                def say(msg: str, timeline=timeline, t0=t0) -> None:
+                    counter.stage = stage_of(msg)
+                    steps = sum(counter.by_stage.values()) / 1e6
+                    timeline.append((round(time.perf_counter() - t0, 1), round(steps, 1), msg))
+
                 d = PL.diagnose(path, progress=say)
                 wall = time.perf_counter() - t0
                 j = d.to_json()
@@ -155,6 +159,9 @@ def main() -> int:
                     },
                     "rounds": [len(r) for r in d.rounds],
                     "kept": kept,
+                    # every progress message with the wall time and model steps (M) before it: a
+                    # rule that would stop the search at some point is costed from this offline
+                    "timeline": timeline,
                 }
                 out.write(json.dumps(row) + "\n")
                 out.flush()
