@@ -41,9 +41,9 @@ static int64_t breakaway_gate_q30(const ss_friction_config_q_t *cfg, int32_t fm_
     const int64_t t =
         ss_shr_round(ss_mul_s32_s64((int32_t)over, cfg->inv_fs_q48), 48 - 30); /* over / Fs, Q30 */
     const int64_t t2 = ss_shr_round(ss_mul_s32_s64((int32_t)t, (int32_t)t), 30);
-    return (
-        int64_t)((ss_mul_u32_u64((uint32_t)t2, (uint32_t)(3 * (int64_t)SS_Q30_ONE - 2 * t)) + (1u << 29)) >>
-                 30);
+    /* t2 (3 - 2t) below 3 x 2^60: within int64 */
+    return ss_shr_round((int64_t)ss_mul_u32_u64((uint32_t)t2, (uint32_t)(3 * (int64_t)SS_Q30_ONE - 2 * t)),
+                        30);
 }
 
 ss_status_t ss_ls_init_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
