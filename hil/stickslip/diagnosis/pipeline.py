@@ -803,11 +803,14 @@ def _select(s: _Session, base: Candidate, singles: list[Candidate]):
                 break
         if accepted is None:
             # every fitted candidate failed: fit the next promising ones of the same parents
-            # (the screen ranks to first order; a cause it placed fourth may be the one)
+            # (the screen ranks to first order; a cause it placed fourth may be the one), the
+            # limit tested first: a batch fitted past it would never be judged
+            extra_batches += 1
+            if extra_batches > MAX_EXTRA_BATCHES:
+                break
             parents = {id(c.parent): c.parent for c in pool if c.parent is not None}
             more = [c for p in parents.values() for c in s.fit_pending(p)]
-            extra_batches += 1
-            if not more or extra_batches > MAX_EXTRA_BATCHES:
+            if not more:
                 break
             pool = sorted(more, key=lambda c: c.score)
             rounds[-1] = sorted(rounds[-1] + more, key=lambda c: c.score)
