@@ -7,6 +7,7 @@ with another line by line; the answers are diagnosis_bench.py's.
     PYTHONPATH=hil:bench .venv/bin/python bench/diagnosis_cost.py --generator own --out own.jsonl
     PYTHONPATH=hil:bench .venv/bin/python bench/diagnosis_cost.py --generator independent \\
         --cases piezo_hysteresis base_compliance --seeds 2 --out ind.jsonl
+    ... --generator independent --only piezo_hysteresis:102 null_gms:100 --out slow.jsonl
 
 Datasets are generated into --data and kept (a second run skips the generation; the own
 generator's only while the C library is the same).
@@ -107,13 +108,26 @@ def main() -> int:
     table = B.OWN_CASES if a0.generator == "own" else B.IND_CASES
     names = [c[0] for c in table]
     ap.add_argument("--cases", nargs="+", choices=names, default=names, help="default: all")
+    ap.add_argument(
+        "--only", nargs="+", metavar="CASE:SEED", help="just these diagnoses (e.g. the slow ones)"
+    )
     a = ap.parse_args()
+    only = None
+    if a.only:
+        only = set()
+        for x in a.only:
+            name, _, seed = x.rpartition(":")
+            if name not in names or not seed.isdigit():
+                ap.error(f"--only {x}: expected CASE:SEED with CASE one of the table's cases")
+            only.add((name, int(seed)))
     counter = StepCounter()
     counter.install()
     tag_batches()
     with a.out.open("w") as out:
         for name, causes, kw in (c for c in table if c[0] in a.cases):
             for seed in range(a.first_seed, a.first_seed + a.seeds):
+                if only is not None and (name, seed) not in only:
+                    continue
                 case = name if a.generator == "independent" else f"own:{name}"
                 path = P.dataset(case, seed, a.rate_hz, a.data)
                 counter.by_stage.clear()

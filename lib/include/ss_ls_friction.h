@@ -26,6 +26,8 @@ typedef struct {
     float kt_n_per_m; /* tangent stiffness dF_M/dx, N/m */
     float level_n;    /* break-away level s: Fs at rest, -> g(v) in gross sliding, N */
     float force_n;    /* total friction after the last step, N */
+    float gate;       /* break-away gate of fm_n over gate_fs_n (kept: the next step and the force */
+    float gate_fs_n;  /* ... need it again; Fs moves only under a position or thermal scale) */
     int8_t dir;       /* direction of the last motion: +1, -1, 0 before any motion */
     uint8_t depth;    /* reversal points on the stack */
     ss_ls_reversal_f32_t rev[SS_LS_MEMORY_DEPTH];

@@ -14,14 +14,22 @@
  * gross slip drives the LuGre part, as the elasto-plastic model's alpha(z) does. */
 static float breakaway_gate(float fm_over_fs)
 {
-    const float t = (fm_over_fs - SS_LS_BREAKAWAY_RATIO) / (1.0f - SS_LS_BREAKAWAY_RATIO);
-    if (t <= 0.0f) {
-        return 0.0f;
+    const float over = fm_over_fs - SS_LS_BREAKAWAY_RATIO;
+    if (over <= 0.0f) {
+        return 0.0f; /* the quotient below has over's sign: the same test, without the division */
     }
+    const float t = over / (1.0f - SS_LS_BREAKAWAY_RATIO);
     if (t >= 1.0f) {
         return 1.0f;
     }
     return t * t * (3.0f - 2.0f * t);
+}
+
+/* The gate of the state's F_M under cfg's Fs: the one the last step kept when it was taken at
+ * that Fs (the same bits), else computed. */
+static float gate_of(const ss_friction_config_f32_t *cfg, const ss_ls_state_f32_t *st)
+{
+    return (st->gate_fs_n == cfg->fs_n) ? st->gate : breakaway_gate(fabsf(st->fm_n) / cfg->fs_n);
 }
 
 ss_status_t ss_ls_init_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st)
@@ -39,6 +47,8 @@ ss_status_t ss_ls_init_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_
     st->kt_n_per_m = cfg->sigma0_n_per_m;
     st->level_n = cfg->fs_n;
     st->force_n = 0.0f;
+    st->gate = 0.0f; /* F_M = 0 lies below the break-away at any Fs */
+    st->gate_fs_n = cfg->fs_n;
     st->dir = 0;
     st->depth = 0;
     for (int i = 0; i < SS_LS_MEMORY_DEPTH; ++i) {
@@ -114,6 +124,7 @@ void ss_ls_advance_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *s
         return;
     }
     const float fm_old = st->fm_n;
+    const float gate_old = gate_of(cfg, st);
     if (dx_m != 0.0f) {
         const int8_t d = (dx_m > 0.0f) ? (int8_t)1 : (int8_t)-1;
         if (st->dir != 0 && d != st->dir) {
@@ -124,18 +135,25 @@ void ss_ls_advance_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *s
         close_loops(st);
         eval_branch(cfg, st);
         rebase(cfg, st);
+        st->gate = breakaway_gate(fabsf(st->fm_n) / cfg->fs_n);
+    } else {
+        st->gate = gate_old;
     }
+    st->gate_fs_n = cfg->fs_n;
     /* Elastic-plastic split of the increment: what the presliding element does not take up
      * elastically has slipped (zero right after a reversal). It counts as gross slip only once the
      * presliding force nears its saturation, so presliding stays rate independent. The gate is
      * taken as its mean over the step (its two ends): at the end alone, a step in which the contact
      * saturates counted all its slip as gross, and the level fell too fast at the break-away (the
      * first-order error of the LS step, docs/model.md). */
-    float slip = dx_m - (st->fm_n - fm_old) / cfg->sigma0_n_per_m;
-    if (slip * dx_m < 0.0f) {
-        slip = 0.0f; /* rounding only: the tangent stiffness never exceeds sigma0 */
+    float slip = 0.0f; /* both gates 0 (presliding, most steps): a finite slip times 0, signs aside */
+    if (gate_old != 0.0f || st->gate != 0.0f) {
+        slip = dx_m - (st->fm_n - fm_old) / cfg->sigma0_n_per_m;
+        if (slip * dx_m < 0.0f) {
+            slip = 0.0f; /* rounding only: the tangent stiffness never exceeds sigma0 */
+        }
+        slip *= 0.5f * (gate_old + st->gate);
     }
-    slip *= 0.5f * (breakaway_gate(fabsf(fm_old) / cfg->fs_n) + breakaway_gate(fabsf(st->fm_n) / cfg->fs_n));
     /* LuGre in the slip: the break-away level s relaxes to g(v_slip) over the distance g/sigma0,
      * exact for a slip velocity frozen over the step. */
     const float g = ss_stribeck_f32(cfg, slip / dt_s);
@@ -158,8 +176,10 @@ float ss_ls_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_ls_state_
                          float *dfdv_ns_per_m)
 {
     /* gross-slip velocity: the share of v the presliding element does not take up elastically */
-    const float share =
-        (1.0f - st->kt_n_per_m / cfg->sigma0_n_per_m) * breakaway_gate(fabsf(st->fm_n) / cfg->fs_n);
+    const float gate = gate_of(cfg, st);
+    /* kt <= sigma0 (kt is sigma0 times exp(-a) <= 1), so the first factor is >= 0 and a gate of 0
+     * gives +0 either way */
+    const float share = (gate == 0.0f) ? 0.0f : (1.0f - st->kt_n_per_m / cfg->sigma0_n_per_m) * gate;
     const float vp = v_m_per_s * share;
     float slope = 0.0f;
     const float g =
