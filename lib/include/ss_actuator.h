@@ -135,10 +135,12 @@ typedef struct {
 } ss_actuator_run_job_f32_t;
 
 /* Run n independent simulations, each with exactly the arithmetic of ss_actuator_run_f32 (the
- * same bits), two at a time, interleaved step by step. One step is a chain of dependent float
- * operations and data-dependent branches; a second, independent chain beside it keeps the core's
- * execution units busy while the first waits: on an x86-64 host the pair runs 1.3 x the steps per
- * second of one (BENCHMARKS.md). A finished simulation's slot takes the next job. Returns SS_OK,
+ * same bits), four at a time, their steps interleaved phase by phase (the kick and drift, the
+ * friction law's advance in two parts, its force and the closing kick). A phase is a chain of
+ * dependent float operations and data-dependent branches; the same phase of three independent
+ * simulations beside it keeps the core's execution units busy while it waits: on an x86-64 host
+ * a step costs 0.65-0.9 x what it costs in a simulation run alone (BENCHMARKS.md). A finished
+ * simulation's slot takes the next job. Returns SS_OK,
  * or SS_ERR_NULL for a NULL jobs (n > 0) or a job missing cfg, st, wave or wst (that job's status
  * says so; the others still run); each job's own outcome is in its status. */
 ss_status_t ss_actuator_run_many_f32(ss_actuator_run_job_f32_t *jobs, uint32_t n);

@@ -5,6 +5,8 @@
 #include <stddef.h>
 
 #include "ss_check.h"
+#include "ss_friction_parts_f32.h"
+#include "ss_inline.h"
 
 ss_actuator_config_f32_t ss_actuator_config_table1_f32(void)
 {
@@ -114,35 +116,114 @@ static void rod_flow(const ss_actuator_config_f32_t *cfg, float dt, float phi[4]
     phi[3] = e * (co - sigma * si);
 }
 
-/* Advance the friction state over the drift's relative displacement, then return the force at
- * relative velocity v_end with its slope dF/dv. Position-dependent and thermal effects scale Fs
- * and Fc (the normal force) for the step. */
-static float friction_step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float dx,
-                           float v_end, float *dfdv)
+/* What a step carries from one phase to the next: step() runs the phases in turn, a batch
+ * (ss_actuator_run_many_f32) runs each phase for several simulations before the next. */
+typedef struct {
+    float inv_mr;     /* 1 / rod mass */
+    float inv_mc;     /* 1 / slider mass */
+    float dx_rel;     /* the drift's relative displacement, rod minus slider */
+    float v_free;     /* relative velocity before the closing kick */
+    float kick_per_n; /* relative dv per newton of the closing kick */
+    float f0;         /* the friction the step began with */
+} carry_t;
+
+/* What a batch's step carries besides (its address is taken: kept apart from carry_t, which a
+ * single step then holds in registers). */
+typedef struct {
+    const ss_friction_config_f32_t *fr; /* the step's friction: cfg's, or scaled */
+    ss_friction_config_f32_t scaled;    /* Fs and Fc under a position or thermal scale */
+    ss_lugre_slip_f32_t lugre_slip;     /* the friction law's parts in flight */
+    ss_lugre_level_f32_t lugre_level;
+    ss_ls_branch_f32_t ls_branch;
+} parts_t;
+
+/* The step's friction config: position-dependent and thermal effects scale Fs and Fc (the normal
+ * force) for the step. */
+SS_FORCE_INLINE const ss_friction_config_f32_t *friction_config(const ss_actuator_config_f32_t *cfg,
+                                                                const ss_actuator_state_f32_t *st,
+                                                                ss_friction_config_f32_t *scaled)
 {
-    ss_friction_config_f32_t scaled;
-    const ss_friction_config_f32_t *fr = &cfg->friction;
     const int scales =
         cfg->effects.friction_gradient_per_m != 0.0f || cfg->effects.thermal_coeff_per_j != 0.0f;
     const float scale =
         scales ? ss_effects_friction_scale_f32(&cfg->effects, &st->fx, ss_position_value_f32(st->x_slider))
                : 1.0f;
-    if (scale != 1.0f) {
-        scaled = cfg->friction;
-        scaled.fs_n *= scale;
-        scaled.fc_n *= scale;
-        fr = &scaled;
+    if (scale == 1.0f) {
+        return &cfg->friction;
     }
+    *scaled = cfg->friction;
+    scaled->fs_n *= scale;
+    scaled->fc_n *= scale;
+    return scaled;
+}
+
+/* One simulation's step (step()): the law's advance over the drift's relative displacement whole
+ * under the step's friction fr, ... */
+SS_FORCE_INLINE void friction_advance(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                      const ss_friction_config_f32_t *fr, const carry_t *c)
+{
     if (cfg->friction_model == SS_FRICTION_LUGRE) {
-        ss_lugre_advance_f32(fr, &st->fr.lugre, dx, cfg->dt_s);
-        return ss_lugre_force_at_f32(fr, &st->fr.lugre, v_end, dfdv);
+        ss_lugre_advance_f32(fr, &st->fr.lugre, c->dx_rel, cfg->dt_s);
+    } else if (cfg->friction_model == SS_FRICTION_GMS) {
+        ss_gms_advance_f32(fr, &st->fr.gms, c->dx_rel, cfg->dt_s);
+    } else {
+        ss_ls_advance_f32(fr, &st->fr.ls, c->dx_rel, cfg->dt_s);
+    }
+}
+
+/* ... then its force at the velocity the step ends with, with the slope. */
+SS_FORCE_INLINE float friction_force(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
+                                     const ss_friction_config_f32_t *fr, const carry_t *c, float *dfdv)
+{
+    if (cfg->friction_model == SS_FRICTION_LUGRE) {
+        return ss_lugre_force_at_f32(fr, &st->fr.lugre, c->v_free, dfdv);
     }
     if (cfg->friction_model == SS_FRICTION_GMS) {
-        ss_gms_advance_f32(fr, &st->fr.gms, dx, cfg->dt_s);
-        return ss_gms_force_at_f32(fr, &st->fr.gms, v_end, dfdv);
+        return ss_gms_force_at_f32(fr, &st->fr.gms, c->v_free, dfdv);
     }
-    ss_ls_advance_f32(fr, &st->fr.ls, dx, cfg->dt_s);
-    return ss_ls_force_at_f32(fr, &st->fr.ls, v_end, dfdv);
+    return ss_ls_force_at_f32(fr, &st->fr.ls, c->v_free, dfdv);
+}
+
+/* A batch's step (ss_actuator_run_many_f32) in parts, the same operations: the step's friction and
+ * the law's advance begun (LuGre: with the Stribeck level of the force at the step's end, which
+ * does not depend on the state), ... */
+SS_FORCE_INLINE void friction_begin(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                    const carry_t *c, parts_t *p)
+{
+    p->fr = friction_config(cfg, st, &p->scaled);
+    if (cfg->friction_model == SS_FRICTION_LUGRE) {
+        ss_lugre_advance_begin_f32(p->fr, c->dx_rel, cfg->dt_s, &p->lugre_slip);
+        ss_lugre_force_begin_f32(p->fr, c->v_free, 1, &p->lugre_level);
+    } else if (cfg->friction_model == SS_FRICTION_GMS) {
+        ss_gms_advance_f32(p->fr, &st->fr.gms, c->dx_rel, cfg->dt_s);
+    } else {
+        ss_ls_advance_begin_f32(p->fr, &st->fr.ls, c->dx_rel, cfg->dt_s, &p->ls_branch);
+    }
+}
+
+/* ... the rest of the advance, ... */
+SS_FORCE_INLINE void friction_end(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                  const carry_t *c, const parts_t *p)
+{
+    if (cfg->friction_model == SS_FRICTION_LUGRE) {
+        ss_lugre_advance_end_f32(p->fr, &st->fr.lugre, c->dx_rel, &p->lugre_slip);
+    } else if (cfg->friction_model != SS_FRICTION_GMS) { /* LS, as friction_begin */
+        ss_ls_advance_end_f32(p->fr, &st->fr.ls, c->dx_rel, cfg->dt_s, &p->ls_branch);
+    }
+}
+
+/* ... and the force, with the part of it begun there. */
+SS_FORCE_INLINE float friction_force_parts(const ss_actuator_config_f32_t *cfg,
+                                           const ss_actuator_state_f32_t *st, const carry_t *c,
+                                           const parts_t *p, float *dfdv)
+{
+    if (cfg->friction_model == SS_FRICTION_LUGRE) {
+        return ss_lugre_force_end_f32(p->fr, &st->fr.lugre, c->v_free, &p->lugre_level, dfdv);
+    }
+    if (cfg->friction_model == SS_FRICTION_GMS) {
+        return ss_gms_force_at_f32(p->fr, &st->fr.gms, c->v_free, dfdv);
+    }
+    return ss_ls_force_at_f32(p->fr, &st->fr.ls, c->v_free, dfdv);
 }
 
 /* Force of the base spring-damper and of the piezo's reaction on the base (0 without a base). */
@@ -165,8 +246,8 @@ static float base_force(const ss_actuator_config_f32_t *cfg, const ss_actuator_s
 }
 
 /* Half a step of friction (and load, and base forces) on every body. */
-static inline void half_kick(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float inv_mr,
-                             float inv_mc)
+SS_FORCE_INLINE void half_kick(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float inv_mr,
+                               float inv_mc)
 {
     const float half = 0.5f * cfg->dt_s;
     st->v_rod_m_per_s -= st->force_n * inv_mr * half;
@@ -253,10 +334,12 @@ static float drift_with_corner(const ss_actuator_config_f32_t *cfg, ss_actuator_
     return x_p1;
 }
 
-/* One step; the drive is linear from its current value to drive_v, or (corner_frac > 0) linear to
- * corner_v at corner_frac dt and then linear to drive_v. */
-static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float drive_v,
-                        float corner_frac, float corner_v)
+/* A step's first phase: the drive is linear from its current value to drive_v, or (corner_frac >
+ * 0) linear to corner_v at corner_frac dt and then linear to drive_v. The opening kick and the
+ * drift; the friction is advanced over the drift next (friction_advance, or in a batch
+ * friction_begin and friction_end), then step_finish. */
+SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                       float drive_v, float corner_frac, float corner_v, carry_t *c)
 {
     if (cfg == NULL || st == NULL) {
         return SS_ERR_NULL;
@@ -266,11 +349,11 @@ static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f
     }
     const float dt = cfg->dt_s;
     const float half = 0.5f * dt;
-    const float inv_mr = 1.0f / cfg->rod_mass_kg;
-    const float inv_mc = 1.0f / cfg->slider_mass_kg;
+    c->inv_mr = 1.0f / cfg->rod_mass_kg;
+    c->inv_mc = 1.0f / cfg->slider_mass_kg;
 
     /* kick: half a step of friction on both bodies */
-    half_kick(cfg, st, inv_mr, inv_mc);
+    half_kick(cfg, st, c->inv_mr, c->inv_mc);
 
     /* drift: the rod's exact flow under the piezo anchor (strain plus base), in two pieces when the
      * drive bends inside the step (each with the flow over its own length) */
@@ -288,7 +371,7 @@ static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f
     }
     const float x_b1 = x_b0 + st->fx.v_base_m_per_s * dt;
     const float dx_slider = st->v_slider_m_per_s * dt;
-    const float dx_rel = (st->x_rod_m - x_rod0) - dx_slider;
+    c->dx_rel = (st->x_rod_m - x_rod0) - dx_slider;
     st->fx.x_base_m = x_b1;
     position_add(&st->x_slider, dx_slider);
     st->x_p_m = x_p1;
@@ -297,13 +380,19 @@ static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f
     /* Friction at the new state and at the velocity the step ends with. That velocity depends on
      * the closing kick, i.e. on the force: solve the linearised relation (implicit in the
      * damping terms, so a stiff sigma1 costs no stability). */
-    const float v_free = st->v_rod_m_per_s - st->v_slider_m_per_s -
-                         cfg->effects.load_n * inv_mc * half; /* before the closing kick */
-    const float kick_per_n = half * (inv_mr + inv_mc);        /* relative dv per newton */
-    float dfdv = 0.0f;
-    const float f_free = friction_step(cfg, st, dx_rel, v_free, &dfdv);
-    const float denom = 1.0f + dfdv * kick_per_n;
-    const float f0 = st->force_n;
+    c->v_free = st->v_rod_m_per_s - st->v_slider_m_per_s -
+                cfg->effects.load_n * c->inv_mc * half; /* before the closing kick */
+    c->kick_per_n = half * (c->inv_mr + c->inv_mc);     /* relative dv per newton */
+    c->f0 = st->force_n;
+    return SS_OK;
+}
+
+/* A step's last phase, from the friction f_free at the velocity the step ends with before the
+ * closing kick, and its slope dfdv: the force after the kick, the heat, the closing kick. */
+SS_FORCE_INLINE void step_finish(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                 const carry_t *c, float f_free, float dfdv)
+{
+    const float denom = 1.0f + dfdv * c->kick_per_n;
     st->force_n = (denom > 0.1f) ? f_free / denom : f_free;
     if (cfg->effects.thermal_coeff_per_j != 0.0f) {
         /* heat: the work friction does on the relative motion, signed. The contact's elastic
@@ -311,12 +400,29 @@ static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f
          * over cycles this is the dissipation. Taking F^2 / 2 sigma0 off each step and counting
          * a negative step as 0 stored 12-15 % more heat under LuGre, whose force holds
          * sigma1 zdot + sigma2 v beside the spring (docs/effects.md). */
-        ss_effects_heat_f32(&cfg->effects, &st->fx, 0.5f * (f0 + st->force_n) * dx_rel, dt);
+        ss_effects_heat_f32(&cfg->effects, &st->fx, 0.5f * (c->f0 + st->force_n) * c->dx_rel, cfg->dt_s);
     }
 
     /* kick */
-    half_kick(cfg, st, inv_mr, inv_mc);
+    half_kick(cfg, st, c->inv_mr, c->inv_mc);
     st->steps++;
+}
+
+/* One step: its phases in turn, the friction law's advance and force whole. */
+static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float drive_v,
+                        float corner_frac, float corner_v)
+{
+    carry_t c;
+    const ss_status_t status = step_start(cfg, st, drive_v, corner_frac, corner_v, &c);
+    if (status != SS_OK) {
+        return status;
+    }
+    ss_friction_config_f32_t scaled;
+    const ss_friction_config_f32_t *fr = friction_config(cfg, st, &scaled);
+    friction_advance(cfg, st, fr, &c);
+    float dfdv = 0.0f;
+    const float f_free = friction_force(cfg, st, fr, &c, &dfdv);
+    step_finish(cfg, st, &c, f_free, dfdv);
     return SS_OK;
 }
 
@@ -335,17 +441,28 @@ ss_status_t ss_actuator_step_corner_f32(const ss_actuator_config_f32_t *cfg, ss_
     return step(cfg, st, drive_v, corner_frac, corner_v);
 }
 
+/* The player's next step: the drive at its end, and where the drive bends inside it (*frac 0: it
+ * does not). */
+SS_FORCE_INLINE float wave_next(const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
+                                float *frac, float *corner_v)
+{
+    *frac = 0.0f;
+    *corner_v = 0.0f;
+    if (!ss_waveform_corner_f32(wave, wst, frac, corner_v)) {
+        *frac = 0.0f;
+    }
+    ss_waveform_advance_f32(wst);
+    return ss_waveform_value_f32(wave, wst);
+}
+
 /* ss_actuator_wave_step_f32's body, inlined into the run's loop */
 static inline ss_status_t wave_step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
                                     const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst)
 {
-    float frac = 0.0f;
-    float corner_v = 0.0f;
-    if (!ss_waveform_corner_f32(wave, wst, &frac, &corner_v)) {
-        frac = 0.0f;
-    }
-    ss_waveform_advance_f32(wst);
-    return step(cfg, st, ss_waveform_value_f32(wave, wst), frac, corner_v);
+    float frac;
+    float corner_v;
+    const float drive_v = wave_next(wave, wst, &frac, &corner_v);
+    return step(cfg, st, drive_v, frac, corner_v);
 }
 
 ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
@@ -436,7 +553,7 @@ typedef struct {
 
 /* Check a job as ss_actuator_run_f32 checks its arguments and put it in the lane; 1 if it has
  * steps to run. */
-static int lane_start(lane_t *lane, ss_actuator_run_job_f32_t *j)
+SS_FORCE_INLINE int lane_start(lane_t *lane, ss_actuator_run_job_f32_t *j)
 {
     j->rows = 0u;
     if (j->cfg == NULL || j->st == NULL || j->wave == NULL || j->wst == NULL) {
@@ -454,15 +571,10 @@ static int lane_start(lane_t *lane, ss_actuator_run_job_f32_t *j)
     return j->n_steps > 0u;
 }
 
-/* One step of the lane's job, and its row when it is a decimation-th step; 1 while steps are left
- * and it has not failed. */
-static inline int lane_step(lane_t *lane)
+/* After a lane's step: its row when it is a decimation-th step; 1 while steps are left. */
+SS_FORCE_INLINE int lane_after_step(lane_t *lane)
 {
     ss_actuator_run_job_f32_t *j = lane->job;
-    j->status = wave_step(j->cfg, j->st, j->wave, j->wst);
-    if (j->status != SS_OK) {
-        return 0;
-    }
     if (--lane->to_row == 0u) {
         lane->to_row = j->decimation;
         if (j->trace != NULL) {
@@ -470,6 +582,28 @@ static inline int lane_step(lane_t *lane)
         }
     }
     return --lane->left != 0u;
+}
+
+/* One step of the lane's job, and its row; 1 while steps are left and it has not failed. */
+SS_FORCE_INLINE int lane_step(lane_t *lane)
+{
+    ss_actuator_run_job_f32_t *j = lane->job;
+    j->status = wave_step(j->cfg, j->st, j->wave, j->wst);
+    if (j->status != SS_OK) {
+        return 0;
+    }
+    return lane_after_step(lane);
+}
+
+/* The drive of the lane's next step from its player (wave_step's first half), then the step's
+ * first phase. */
+SS_FORCE_INLINE ss_status_t lane_start_step(lane_t *lane, carry_t *c)
+{
+    ss_actuator_run_job_f32_t *j = lane->job;
+    float frac;
+    float corner_v;
+    const float drive_v = wave_next(j->wave, j->wst, &frac, &corner_v);
+    return step_start(j->cfg, j->st, drive_v, frac, corner_v, c);
 }
 
 ss_status_t ss_actuator_run_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
@@ -490,42 +624,71 @@ ss_status_t ss_actuator_run_f32(const ss_actuator_config_f32_t *cfg, ss_actuator
     return job.status;
 }
 
+/* Simulations a batch steps side by side (ss_actuator_run_many_f32). */
+#define SS_RUN_LANES 4
+
 ss_status_t ss_actuator_run_many_f32(ss_actuator_run_job_f32_t *jobs, uint32_t n)
 {
     if (jobs == NULL && n > 0u) {
         return SS_ERR_NULL;
     }
     ss_status_t out = SS_OK;
-    lane_t lane[2];
-    int busy[2] = {0, 0};
+    lane_t lane[SS_RUN_LANES];
+    carry_t carry[SS_RUN_LANES];
+    parts_t parts[SS_RUN_LANES];
+    int busy[SS_RUN_LANES] = {0};
     uint32_t next = 0u;
     for (;;) {
-        for (int k = 0; k < 2; ++k) {
+        int active = 0;
+        for (int k = 0; k < SS_RUN_LANES; ++k) {
             while (!busy[k] && next < n) {
                 busy[k] = lane_start(&lane[k], &jobs[next]);
                 if (jobs[next++].status == SS_ERR_NULL) {
                     out = SS_ERR_NULL;
                 }
             }
+            active += busy[k];
         }
-        if (busy[0] && busy[1]) {
-            /* both lanes stepped in turn until one ends; the other goes on with the next job */
-            int a = 1;
-            int b = 1;
-            while (a && b) {
-                a = lane_step(&lane[0]);
-                b = lane_step(&lane[1]);
-            }
-            busy[0] = a;
-            busy[1] = b;
-        } else if (busy[0] || busy[1]) {
-            /* no job left for the other lane: this one runs alone to its end */
-            lane_t *l = &lane[busy[0] ? 0 : 1];
-            while (lane_step(l)) {
-            }
+        if (active == 0) {
             return out;
-        } else {
-            return out;
+        }
+        /* Every busy lane's step, phase by phase: each phase of one simulation is a chain of
+         * dependent operations, and the same phase of the others, independent of it, sits beside
+         * it in the instruction stream for the core to overlap. Each lane's own operations are
+         * those of lane_step, in its order. Until a lane ends, then it takes the next job. */
+        int all = 1;
+        while (all) {
+            ss_status_t status[SS_RUN_LANES];
+            for (int k = 0; k < SS_RUN_LANES; ++k) {
+                status[k] = busy[k] ? lane_start_step(&lane[k], &carry[k]) : SS_ERR_RANGE;
+            }
+            for (int k = 0; k < SS_RUN_LANES; ++k) {
+                if (status[k] == SS_OK) {
+                    friction_begin(lane[k].job->cfg, lane[k].job->st, &carry[k], &parts[k]);
+                }
+            }
+            for (int k = 0; k < SS_RUN_LANES; ++k) {
+                if (status[k] == SS_OK) {
+                    friction_end(lane[k].job->cfg, lane[k].job->st, &carry[k], &parts[k]);
+                }
+            }
+            for (int k = 0; k < SS_RUN_LANES; ++k) {
+                if (!busy[k]) {
+                    continue;
+                }
+                lane[k].job->status = status[k];
+                if (status[k] != SS_OK) {
+                    busy[k] = 0;
+                } else {
+                    const ss_actuator_config_f32_t *cfg = lane[k].job->cfg;
+                    float dfdv = 0.0f;
+                    const float f_free =
+                        friction_force_parts(cfg, lane[k].job->st, &carry[k], &parts[k], &dfdv);
+                    step_finish(cfg, lane[k].job->st, &carry[k], f_free, dfdv);
+                    busy[k] = lane_after_step(&lane[k]);
+                }
+                all = all && busy[k];
+            }
         }
     }
 }

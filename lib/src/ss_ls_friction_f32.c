@@ -5,6 +5,8 @@
 
 #include "ss_check.h"
 #include "ss_exp_f32.h"
+#include "ss_friction_parts_f32.h"
+#include "ss_inline.h"
 
 /* Beyond this many presliding lengths Fs/sigma0 the virgin curve equals Fs to float precision
  * (exp(-24) ~ 4e-11), so the frame can be re-based without changing any force. */
@@ -71,7 +73,7 @@ static void push_reversal(ss_ls_state_f32_t *st)
 
 /* Wiping-out: a branch that reaches the reversal point where the opposite branch began closes
  * that minor loop, and motion resumes on the branch that was active before it. */
-static void close_loops(ss_ls_state_f32_t *st)
+SS_FORCE_INLINE void close_loops(ss_ls_state_f32_t *st)
 {
     const float d = (float)st->dir;
     for (;;) {
@@ -86,7 +88,7 @@ static void close_loops(ss_ls_state_f32_t *st)
 }
 
 /* Masing branches of the exponential virgin curve phi(u) = Fs (1 - exp(-sigma0 u / Fs)). */
-static void eval_branch(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st)
+SS_FORCE_INLINE void eval_branch(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st)
 {
     const float fs = cfg->fs_n;
     const float k0 = cfg->sigma0_n_per_m;
@@ -118,13 +120,17 @@ static void rebase(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st)
     }
 }
 
-void ss_ls_advance_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m, float dt_s)
+/* The advance's parts (ss_friction_parts_f32.h), inline here as for LuGre. */
+SS_FORCE_INLINE void advance_begin(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m,
+                                   float dt_s, ss_ls_branch_f32_t *b)
 {
-    if (!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f)) {
+    b->moves = !(!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f));
+    if (!b->moves) {
         return;
     }
-    const float fm_old = st->fm_n;
+    b->fm_old_n = st->fm_n;
     const float gate_old = gate_of(cfg, st);
+    b->gate_old = gate_old;
     if (dx_m != 0.0f) {
         const int8_t d = (dx_m > 0.0f) ? (int8_t)1 : (int8_t)-1;
         if (st->dir != 0 && d != st->dir) {
@@ -140,6 +146,16 @@ void ss_ls_advance_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *s
         st->gate = gate_old;
     }
     st->gate_fs_n = cfg->fs_n;
+}
+
+SS_FORCE_INLINE void advance_end(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m,
+                                 float dt_s, const ss_ls_branch_f32_t *b)
+{
+    if (!b->moves) {
+        return;
+    }
+    const float fm_old = b->fm_old_n;
+    const float gate_old = b->gate_old;
     /* Elastic-plastic split of the increment: what the presliding element does not take up
      * elastically has slipped (zero right after a reversal). It counts as gross slip only once the
      * presliding force nears its saturation, so presliding stays rate independent. The gate is
@@ -160,6 +176,25 @@ void ss_ls_advance_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *s
     /* no gross slip (presliding, sticking): exp(0) = 1, the same arithmetic without the exp */
     const float decay = (slip == 0.0f) ? 1.0f : ss_exp_neg_f32(cfg->sigma0_n_per_m * fabsf(slip) / g);
     st->level_n = g + (st->level_n - g) * decay;
+}
+
+void ss_ls_advance_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m, float dt_s)
+{
+    ss_ls_branch_f32_t b;
+    advance_begin(cfg, st, dx_m, dt_s, &b);
+    advance_end(cfg, st, dx_m, dt_s, &b);
+}
+
+void ss_ls_advance_begin_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m,
+                             float dt_s, ss_ls_branch_f32_t *b)
+{
+    advance_begin(cfg, st, dx_m, dt_s, b);
+}
+
+void ss_ls_advance_end_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m, float dt_s,
+                           const ss_ls_branch_f32_t *b)
+{
+    advance_end(cfg, st, dx_m, dt_s, b);
 }
 
 float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, float dx_m, float dt_s)

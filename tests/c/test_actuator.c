@@ -203,15 +203,17 @@ static void test_run_matches_manual_steps(void **unused)
     assert_int_equal(ss_actuator_step_f32(NULL, &a, 0.0f), SS_ERR_NULL);
 }
 
-/* A batch gives each simulation the bits ss_actuator_run_f32 gives it alone: five jobs (an odd
- * count, so a lane runs alone at the end) of different lengths, laws, decimations and effects, one
- * of which fails part way (a NaN in its sampled drive) and one of which has no state. */
+/* A batch gives each simulation the bits ss_actuator_run_f32 gives it alone: seven jobs (more than
+ * the batch's four lanes, and not a multiple: lanes take new jobs and run alone at the end) of
+ * different lengths, laws, decimations and effects (the friction scaled by position and by heat,
+ * in its own copy of the config each step), one of which fails part way (a NaN in its sampled
+ * drive) and one of which has no state. */
 static void test_run_many_matches_run(void **unused)
 {
     (void)unused;
-    enum { JOBS = 5, MAX_ROWS = 3000 };
-    static const uint32_t n_steps[JOBS] = {6000, 2500, 9000, 1200, 4000};
-    static const uint32_t dec[JOBS] = {3, 1, 7, 5, 2};
+    enum { JOBS = 7, MAX_ROWS = 3000 };
+    static const uint32_t n_steps[JOBS] = {6000, 2500, 9000, 1200, 4000, 7000, 3000};
+    static const uint32_t dec[JOBS] = {3, 1, 7, 5, 2, 4, 1};
     static float samples[64];
     for (int i = 0; i < 64; ++i) {
         samples[i] = 10.0f * (float)(i % 8);
@@ -235,6 +237,13 @@ static void test_run_many_matches_run(void **unused)
     cfg[4].effects.base_mass_kg = 0.02f;
     cfg[4].effects.base_freq_hz = 3000.0f;
     cfg[4].effects.base_damping_ratio = 0.05f;
+    cfg[5].friction_model = SS_FRICTION_LS;
+    cfg[5].effects.friction_gradient_per_m = 300.0f;
+    cfg[5].friction.asymmetry = 0.1f;
+    cfg[6].friction_model = SS_FRICTION_LUGRE;
+    cfg[6].effects.thermal_coeff_per_j = 2000.0f;
+    cfg[6].effects.thermal_tau_s = 0.01f;
+    cfg[6].effects.load_n = -0.1f;
     w[3].kind = SS_WAVE_SAMPLED; /* fails at its 40th sample (below) */
     w[3].samples_v = samples;
     w[3].n_samples = 64u;
