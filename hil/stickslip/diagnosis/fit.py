@@ -315,7 +315,7 @@ def predict_all(
     pooled: bool = True,
 ) -> list[np.ndarray]:
     """predict() on every run, the runs spread over the simulation threads, each thread's share as
-    one batch of the C core (simulate_many: two runs interleaved step by step, the same bits).
+    one batch of the C core (simulate_many: runs stepped side by side, the same bits).
     far_on_error: a model the C library rejects gives a position of 1 m instead of an error.
     With thermal_drift, the runs in their recorded order, each from the heat the last left.
     pooled=False: all in the calling thread (a job already running on the simulation threads)."""
