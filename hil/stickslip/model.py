@@ -260,11 +260,16 @@ class SimResult:
         boundaries t = k / f, interpolated between samples, as a measured run's figure is taken
         (cli.py, hil/session.py). A model step that does not divide the period puts no sample on
         a boundary, and the nearest sample, up to half a step off, moved a 500 Hz cycle's step by
-        up to 1.2 % at 1.5 us (docs/model.md, "Per-cycle error over the drive matrix")."""
+        up to 1.2 % at 1.5 us (docs/model.md, "Per-cycle error over the drive matrix"). A cycle
+        whose end the record does not reach (a run that stops within a step of its drive's end,
+        or a decimated record) is left out: no sample holds its end."""
         if self.waveform is None:
             raise ValueError("per-cycle figures need a periodic waveform")
+        t = self.t_s - self.t_s[0]
         k = np.arange(self.waveform.cycles + 1) * self.waveform.period_s
-        return np.diff(np.interp(k, self.t_s - self.t_s[0], self.x_slider_m))
+        slack = 1e-3 * (t[1] - t[0]) if len(t) > 1 else 0.0  # float rounding of the times
+        k = k[k <= t[-1] + slack]
+        return np.diff(np.interp(k, t, self.x_slider_m))
 
     @property
     def mean_step_m(self) -> float:

@@ -257,3 +257,9 @@ def test_per_cycle_steps_do_not_depend_on_where_the_grid_cuts_the_period():
     ref = simulate(w, model="lugre", dt_s=0.125e-6).per_cycle_steps()[1:]
     coarse = simulate(w, model="lugre", dt_s=1.5e-6).per_cycle_steps()[1:]
     assert np.max(np.abs(coarse / ref - 1)) < 4e-3
+    # at 1.1 us the run's 14 545 steps stop 0.5 us short of its drive's end, in the slip after
+    # the last fall: that cycle has no sample at its end and is left out (read at the last
+    # sample it was 0.46 % off, the others at most 0.1 %)
+    short = simulate(w, model="lugre", dt_s=1.1e-6).per_cycle_steps()[1:]
+    assert len(short) == len(ref) - 1
+    assert np.max(np.abs(short / ref[:-1] - 1)) < 2e-3
