@@ -212,7 +212,7 @@ SS_FORCE_INLINE void friction_end(const ss_actuator_config_f32_t *cfg, ss_actuat
     }
 }
 
-/* ... and the force, with the part of it begun there. */
+/* ... and the force: LuGre's with the part of it begun there, the others' whole. */
 SS_FORCE_INLINE float friction_force_parts(const ss_actuator_config_f32_t *cfg,
                                            const ss_actuator_state_f32_t *st, const carry_t *c,
                                            const parts_t *p, float *dfdv)
@@ -220,10 +220,7 @@ SS_FORCE_INLINE float friction_force_parts(const ss_actuator_config_f32_t *cfg,
     if (cfg->friction_model == SS_FRICTION_LUGRE) {
         return ss_lugre_force_end_f32(p->fr, &st->fr.lugre, c->v_free, &p->lugre_level, dfdv);
     }
-    if (cfg->friction_model == SS_FRICTION_GMS) {
-        return ss_gms_force_at_f32(p->fr, &st->fr.gms, c->v_free, dfdv);
-    }
-    return ss_ls_force_at_f32(p->fr, &st->fr.ls, c->v_free, dfdv);
+    return friction_force(cfg, st, p->fr, c, dfdv);
 }
 
 /* Force of the base spring-damper and of the piezo's reaction on the base (0 without a base). */
