@@ -1,5 +1,5 @@
 """One evaluation of a dataset's runs by the diagnosis (fit.residuals: every run simulated, each
-simulation thread's share as one batch of the C core, two runs interleaved step by step) against
+simulation thread's share as one batch of the C core, its runs stepped side by side) against
 the runs as one job each on the same threads (the layout before the batches) and against the runs
 simulated one after another.
 
