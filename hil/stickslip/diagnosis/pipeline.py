@@ -493,10 +493,13 @@ class _Session:
             lin_o = self.assembled(o, lf)
             for (c, pts), fs in zip(cs, fss):
                 x = screen(lin_o, val_idx, c, pts, [f.result() for f in fs])
-                if x.rss_val < out[c].rss_val:
+                if _left(x) < _left(out[c]):
                     x.on_calibrated, x.nominal_points = o.law, out[c].nominal_points
                     out[c] = x
-        return sorted(out.values(), key=lambda x: x.rss_val)
+        # with screens on two calibrations, by the share of its own parent's error each cause is
+        # predicted to leave (absolute errors favour the better calibration's causes whatever
+        # they add); else by the predicted error, as always
+        return sorted(out.values(), key=_left if others else (lambda x: x.rss_val))
 
     def extend(self, parent: Candidate, causes: list[str]) -> list[Candidate]:
         """The causes that screen best on top of parent, fitted in full: with the parent's causes
@@ -806,6 +809,11 @@ def diagnose(
         warnings=ds.warnings,
         stroke_v=max((r.stroke_v for r in runs), default=0.0),
     )
+
+
+def _left(x: Screened) -> float:
+    """The share of its parent's predicted validation error a screened cause would leave."""
+    return x.rss_val / max(x.rss_parent, 1e-300)
 
 
 def _select(s: _Session, base: Candidate, singles: list[Candidate]):
