@@ -15,7 +15,13 @@ import numpy as np  # noqa: E402
 from .. import dataset as D  # noqa: E402
 from .catalog import CAUSES, FRICTION_LAW, FRICTION_LAW_TEXT  # noqa: E402
 from .fit import FitRun, Model, cycle_steps, predict_all, prepare_all  # noqa: E402
-from .guards import CV_MAX_HARM, CV_MIN_DROP, FINAL_SHARE, FWD_SHARE  # noqa: E402
+from .guards import (  # noqa: E402
+    CV_MAX_HARM,
+    CV_MIN_DROP,
+    FINAL_SHARE,
+    FWD_SHARE,
+    UNEXPLAINED_FINAL_SHARE,
+)
 from .pipeline import (  # noqa: E402
     MIN_BIC_DROP,
     MIN_MSE_DROP_OVER_NOISE,
@@ -306,7 +312,9 @@ def _markdown(d: Diagnosis, j: dict) -> str:
         f"{100 * MIN_MSE_DROP_OVER_NOISE:g} % of the noise variance) and passes the guards: "
         "parameters in their physical range, at least "
         f"{100 * FWD_SHARE:.0f} % of the error above the noise removed (and {100 * FINAL_SHARE:.0f}"
-        " % in the final model), and a gain that carries over to run families it was not fitted "
+        " % in the final model; a first cause that leaves the model unexplained, "
+        f"{100 * UNEXPLAINED_FINAL_SHARE:.0f} % of the best model's without it), and a gain that "
+        "carries over to run families it was not fitted "
         f"on (each frequency and amplitude left out in turn: better in most, by > {CV_MIN_DROP:g} "
         f"noise variances in total, and none worse by more than {CV_MAX_HARM:g} x).",
         "",
