@@ -68,7 +68,7 @@ static void run_end(void *ctx, uint8_t req, uint8_t ref_seq, uint32_t steps_done
 static uint64_t run_now(void *ctx)
 {
     const ss_node_can_t *n = ctx;
-    return n->can->time_us(n->can->ctx);
+    return n->can->time_ns(n->can->ctx);
 }
 
 static ss_node_run_sink_t sink_of(ss_node_can_t *n)
@@ -193,7 +193,7 @@ static void command(ss_node_can_t *n, const ss_can_cmd_t *c)
         } else if (!count_from(c->value, &steps)) {
             e = refuse(&why, SS_PERR_OUT_OF_RANGE, "steps", "a whole number, at most 4e9");
         } else {
-            e = ss_node_core_run(&n->core, c->seq, steps, c->index, c->flags, n->can->time_us(n->can->ctx),
+            e = ss_node_core_run(&n->core, c->seq, steps, c->index, c->flags, n->can->time_ns(n->can->ctx),
                                  &sink, &why);
             if (e == SS_PERR_NONE) {
                 return; /* the reply comes when the run ends */
@@ -275,7 +275,7 @@ int ss_node_can_poll(ss_node_can_t *n)
     }
     if (n->core.running) {
         const ss_node_run_sink_t sink = sink_of(n);
-        ss_node_core_run_poll(&n->core, n->can->time_us(n->can->ctx), &sink);
+        ss_node_core_run_poll(&n->core, n->can->time_ns(n->can->ctx), &sink);
     }
     return 0;
 }

@@ -15,7 +15,7 @@ static const ss_node_param_def_t PARAMS[SS_NODE_N_PARAMS] = {
  * its SS_MODEL_NODE_PARAMS are the node's defaults instead of Table I. */
 #include SS_MODEL_HEADER
 #ifndef SS_MODEL_NODE_PARAMS
-#error "SS_MODEL_HEADER: no SS_MODEL_NODE_PARAMS (GMS, or a step other than the node's 1 us)"
+#error "SS_MODEL_HEADER: no SS_MODEL_NODE_PARAMS (a GMS model: the node runs LS and LuGre)"
 #endif
 #if defined(SS_NODE_MODEL_Q) && !defined(SS_MODEL_CONFIG_Q)
 #error "SS_MODEL_HEADER: the fixed-point node cannot run this model (an effect it does not model)"
@@ -61,6 +61,7 @@ static ss_actuator_config_f32_t config_from(const ss_node_params_t *p)
     e->base_freq_hz = v[SS_NODE_P_BFREQ];
     e->base_damping_ratio = v[SS_NODE_P_BDAMP];
     e->sensor_scale_error = v[SS_NODE_P_SSCALE];
+    c.dt_s = v[SS_NODE_P_DT];
     return c;
 }
 
@@ -350,7 +351,7 @@ static void end_run(ss_node_core_t *c, uint8_t req, uint8_t ref_seq, const ss_no
 }
 
 ss_proto_error_t ss_node_core_run(ss_node_core_t *c, uint8_t seq, uint32_t steps, uint32_t decimation,
-                                  uint8_t paced, uint64_t now_us, const ss_node_run_sink_t *sink,
+                                  uint8_t paced, uint64_t now_ns, const ss_node_run_sink_t *sink,
                                   ss_node_refusal_t *why)
 {
     if (!c->wave_loaded) {
@@ -366,7 +367,7 @@ ss_proto_error_t ss_node_core_run(ss_node_core_t *c, uint8_t seq, uint32_t steps
     c->paced = paced;
     c->run_done = 0;
     c->run_misses = 0;
-    c->run_t0_us = now_us;
+    c->run_t0_ns = now_ns;
     c->run_dt_fs = ss_node_model_dt_fs(&c->cfg) * (paced > 1u ? paced : 1u); /* <= 1e12 fs x 255 */
     c->run_next_fs = c->run_dt_fs;
     if (c->run_left == 0u) {
@@ -375,23 +376,32 @@ ss_proto_error_t ss_node_core_run(ss_node_core_t *c, uint8_t seq, uint32_t steps
     return SS_PERR_NONE;
 }
 
-#define FS_PER_US 1000000000u
+#define FS_PER_NS 1000000u
 
 /* Time since the run's start in integer femtoseconds (a float deadline lost microseconds after
  * 2^24 us, about 16 s). 2^64 fs is 5.1 hours: later than that, everything is due. */
-static uint64_t elapsed_fs(const ss_node_core_t *c, uint64_t now_us)
+static uint64_t elapsed_fs(const ss_node_core_t *c, uint64_t now_ns)
 {
-    const uint64_t elapsed_us = now_us - c->run_t0_us;
-    return (elapsed_us > UINT64_MAX / FS_PER_US) ? UINT64_MAX : elapsed_us * FS_PER_US;
+    const uint64_t elapsed_ns = now_ns - c->run_t0_ns;
+    return (elapsed_ns > UINT64_MAX / FS_PER_NS) ? UINT64_MAX : elapsed_ns * FS_PER_NS;
 }
 
-void ss_node_core_run_poll(ss_node_core_t *c, uint64_t now_us, const ss_node_run_sink_t *sink)
+uint64_t ss_node_core_idle_fs(const ss_node_core_t *c, uint64_t now_ns)
+{
+    if (!c->running || !c->paced) {
+        return 0;
+    }
+    const uint64_t t = elapsed_fs(c, now_ns);
+    return (t < c->run_next_fs) ? c->run_next_fs - t : 0u;
+}
+
+void ss_node_core_run_poll(ss_node_core_t *c, uint64_t now_ns, const ss_node_run_sink_t *sink)
 {
     if (!c->running) {
         return;
     }
     /* Paced: step k is due when k slots <= the time since the start. */
-    const uint64_t due_fs = elapsed_fs(c, now_us);
+    const uint64_t due_fs = elapsed_fs(c, now_ns);
     uint32_t todo = (c->run_left < SS_NODE_MAX_STEPS_PER_POLL) ? c->run_left : SS_NODE_MAX_STEPS_PER_POLL;
     for (; todo > 0u && (!c->paced || c->run_next_fs <= due_fs); --todo) {
         ss_node_model_wave_step(&c->cfg, &c->st, &c->wave, &c->wst);
@@ -400,7 +410,7 @@ void ss_node_core_run_poll(ss_node_core_t *c, uint64_t now_us, const ss_node_run
         c->run_next_fs =
             (c->run_next_fs > UINT64_MAX - c->run_dt_fs) ? UINT64_MAX : c->run_next_fs + c->run_dt_fs;
         /* the step's deadline is the next one's due time: ended later, it missed it */
-        if (c->paced && elapsed_fs(c, sink->now_us(sink->ctx)) > c->run_next_fs) {
+        if (c->paced && elapsed_fs(c, sink->now_ns(sink->ctx)) > c->run_next_fs) {
             c->run_misses++;
         }
         if (c->run_done % c->run_decimation == 0u) {

@@ -21,8 +21,8 @@ enum {
     SS_NODE_P_COUNT
 };
 #define SS_NODE_N_PARAMS ((uint32_t)SS_NODE_P_COUNT)
-#define SS_NODE_N_PARAMS_TEXT "27" /* in reason texts; a static assertion keeps it true */
-typedef char ss_node_n_params_text_check[(SS_NODE_P_COUNT == 27) ? 1 : -1];
+#define SS_NODE_N_PARAMS_TEXT "28" /* in reason texts; a static assertion keeps it true */
+typedef char ss_node_n_params_text_check[(SS_NODE_P_COUNT == 28) ? 1 : -1];
 
 /* Steps a free run may take in one poll before the front end reads its link again. */
 #define SS_NODE_MAX_STEPS_PER_POLL 2000u
@@ -60,19 +60,19 @@ typedef struct {
     uint8_t running, paced, run_seq;
     uint32_t run_left, run_done, run_decimation;
     uint32_t run_misses; /* paced steps that ended after their deadline */
-    uint64_t run_t0_us;
+    uint64_t run_t0_ns;
     uint64_t run_dt_fs;   /* a step's slot of real time, fs (paced runs): paced x the model's step */
-    uint64_t run_next_fs; /* when the next step is due, fs after run_t0_us */
+    uint64_t run_next_fs; /* when the next step is due, fs after run_t0_ns */
 } ss_node_core_t;
 
 /* Where a run's output goes: the front end's. row: the state after every decimation-th step;
  * end: the run is over (req SS_MSG_RUN: all steps done; SS_MSG_STOP: stopped), answer ref_seq,
- * with the paced run's deadline misses; now_us: the port's clock, read after every paced step. */
+ * with the paced run's deadline misses; now_ns: the port's clock, read after every paced step. */
 typedef struct {
     void *ctx;
     void (*row)(void *ctx, const ss_node_core_t *core);
     void (*end)(void *ctx, uint8_t req, uint8_t ref_seq, uint32_t steps_done, uint32_t misses);
-    uint64_t (*now_us)(void *ctx);
+    uint64_t (*now_ns)(void *ctx);
 } ss_node_run_sink_t;
 
 /* Table I parameters (the library's), LS friction, the paper's drive pending, at rest at 0 V. */
@@ -111,16 +111,20 @@ ss_proto_error_t ss_node_core_load_waveform(ss_node_core_t *core, const ss_wavef
 ss_proto_error_t ss_node_core_drive(ss_node_core_t *core, float drive_v);
 ss_node_row_t ss_node_core_row(const ss_node_core_t *core);
 
-/* A free run of steps steps of the loaded waveform, a row every decimation steps; now_us is the
- * port's clock. paced 0: as fast as it goes. paced p >= 1: step k (from 1) is due p k dt after the
+/* A free run of steps steps of the loaded waveform, a row every decimation steps; now_ns is the
+ * port's clock (ns). paced 0: as fast as it goes. paced p >= 1: step k (from 1) is due p k dt after the
  * start (p = 1 real time, p > 1 slowed p times), and its deadline is the next step's due time:
- * a step that ends later counts as a deadline miss (ended after the port's clock, whole
- * microseconds, passed the deadline). A run of 0 steps ends at once. */
+ * a step that ends later counts as a deadline miss (the port's clock, read after the step, past
+ * the deadline: judged to the clock's resolution, 40 ns on the MPS2 port). A run of 0 steps ends
+ * at once. */
 ss_proto_error_t ss_node_core_run(ss_node_core_t *core, uint8_t seq, uint32_t steps, uint32_t decimation,
-                                  uint8_t paced, uint64_t now_us, const ss_node_run_sink_t *sink,
+                                  uint8_t paced, uint64_t now_ns, const ss_node_run_sink_t *sink,
                                   ss_node_refusal_t *why);
+/* A paced run's time until its next step is due, fs (0: due, or no paced run): what a front end
+ * may spend on other work without holding that step up. */
+uint64_t ss_node_core_idle_fs(const ss_node_core_t *core, uint64_t now_ns);
 /* Advance a run in progress by what is due (at most SS_NODE_MAX_STEPS_PER_POLL steps). */
-void ss_node_core_run_poll(ss_node_core_t *core, uint64_t now_us, const ss_node_run_sink_t *sink);
+void ss_node_core_run_poll(ss_node_core_t *core, uint64_t now_ns, const ss_node_run_sink_t *sink);
 /* STOP: ends a run in progress (sink->end, SS_MSG_STOP) and returns 1; 0 when there was none. */
 int ss_node_core_stop(ss_node_core_t *core, uint8_t seq, const ss_node_run_sink_t *sink);
 

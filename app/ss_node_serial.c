@@ -2,11 +2,15 @@
 #include "ss_node_serial.h"
 
 #include <math.h>
+#include <stdint.h>
 
 /* ------------------------------------------------------------------ sending */
 
+static void tx_finish(ss_node_serial_t *n);
+
 static void send_frame(ss_node_serial_t *n, uint8_t type, const uint8_t *payload, size_t len)
 {
+    tx_finish(n); /* a telemetry frame on its way goes out whole first (frames never interleave) */
     const size_t w = ss_proto_build(type, n->tx_seq, payload, len, n->wire, sizeof n->wire);
     if (w > 0u) {
         n->tx_seq++;
@@ -76,11 +80,101 @@ static void flush_rows(ss_node_serial_t *n)
     ss_put_u16(&p[5], (uint16_t)n->n_rows);
     const size_t bytes = (size_t)n->n_rows * SS_PROTO_ROW_BYTES;
     for (size_t i = 0; i < bytes; ++i) {
-        p[7 + i] = n->rows[i];
+        p[7 + i] = n->rows[n->fill][i];
     }
     ss_put_u32(&p[7 + bytes], n->core.run_misses); /* the run's deadline misses so far */
     send_frame(n, SS_MSG_TELEMETRY, p, 7u + bytes + 4u);
     n->n_rows = 0;
+}
+
+/* A paced run's telemetry frame, streamed (ss_proto_stream.h): the same bytes flush_rows sends,
+ * encoded and handed to the link SS_NODE_SERIAL_TX_CHUNK bytes at a time between steps. */
+
+/* Put up to max more bytes of the frame's payload: its head, its rows, the misses so far. */
+static void tx_put(ss_node_serial_t *n, size_t max)
+{
+    const size_t rows_end = 7u + (size_t)n->tx_rows * SS_PROTO_ROW_BYTES;
+    const size_t total = rows_end + 4u;
+    while (max > 0u && n->tx_at < total) {
+        const uint8_t *src;
+        size_t avail;
+        if (n->tx_at < 7u) {
+            src = &n->tx_head[n->tx_at];
+            avail = 7u - n->tx_at;
+        } else if (n->tx_at < rows_end) {
+            src = &n->rows[n->tx_buf][n->tx_at - 7u];
+            avail = rows_end - n->tx_at;
+        } else {
+            if (n->tx_at == rows_end) {
+                ss_put_u32(n->tx_tail, n->core.run_misses); /* taken once: the count when it is reached */
+            }
+            src = &n->tx_tail[n->tx_at - rows_end];
+            avail = total - n->tx_at;
+        }
+        const size_t k = (avail < max) ? avail : max;
+        ss_proto_stream_put(&n->tx, src, k);
+        n->tx_at = (uint16_t)(n->tx_at + k);
+        max -= k;
+    }
+}
+
+/* Hand up to max of the frame's final bytes to the link; the frame is done when all are sent. */
+static void tx_send(ss_node_serial_t *n, size_t max)
+{
+    const uint8_t *p = 0;
+    size_t k = ss_proto_stream_ready(&n->tx, &p);
+    k = (k < max) ? k : max;
+    if (k > 0u) {
+        (void)n->link->write(n->link->ctx, p, k);
+        ss_proto_stream_sent(&n->tx, k);
+    }
+    if (ss_proto_stream_done(&n->tx)) {
+        n->tx_active = 0;
+    }
+}
+
+static void tx_finish(ss_node_serial_t *n)
+{
+    if (n->tx_active) {
+        tx_put(n, SIZE_MAX);
+        tx_send(n, SIZE_MAX);
+    }
+}
+
+/* rows[fill] is full: its frame starts on its way and the other buffer fills. If the last frame
+ * is still going (the steps left no time for it), it goes out whole now: its buffer is needed. */
+static void tx_start(ss_node_serial_t *n)
+{
+    tx_finish(n);
+    const uint16_t rows = (uint16_t)n->n_rows;
+    n->tx_head[0] = n->core.run_seq;
+    ss_put_u32(&n->tx_head[1], n->first_row_step);
+    ss_put_u16(&n->tx_head[5], rows);
+    n->tx_buf = n->fill;
+    n->tx_rows = rows;
+    n->tx_at = 0;
+    (void)ss_proto_stream_begin(&n->tx, n->wire, SS_MSG_TELEMETRY, n->tx_seq++,
+                                (uint16_t)(7u + rows * SS_PROTO_ROW_BYTES + 4u));
+    n->tx_active = 1;
+    n->fill ^= 1u;
+    n->n_rows = 0;
+}
+
+/* Between steps: the frame's next piece, while the next step is not due before the longest piece
+ * measured so far could end (before the first is measured: half a slot must be free). */
+static void tx_background(ss_node_serial_t *n)
+{
+    while (n->tx_active) {
+        const uint64_t t0 = n->link->time_ns(n->link->ctx);
+        const uint64_t need_fs = (n->chunk_fs != 0u) ? n->chunk_fs : n->core.run_dt_fs / 2u;
+        if (ss_node_core_idle_fs(&n->core, t0) < need_fs) {
+            return;
+        }
+        tx_put(n, SS_NODE_SERIAL_TX_CHUNK);
+        tx_send(n, SS_NODE_SERIAL_TX_CHUNK);
+        const uint64_t took_fs = (n->link->time_ns(n->link->ctx) - t0) * 1000000u;
+        n->chunk_fs = (took_fs > n->chunk_fs) ? took_fs : n->chunk_fs;
+    }
 }
 
 static void run_row(void *ctx, const ss_node_core_t *c)
@@ -89,9 +183,13 @@ static void run_row(void *ctx, const ss_node_core_t *c)
     if (n->n_rows == 0u) {
         n->first_row_step = c->st.steps;
     }
-    put_row(&n->rows[(size_t)SS_PROTO_ROW_BYTES * n->n_rows++], c);
+    put_row(&n->rows[n->fill][(size_t)SS_PROTO_ROW_BYTES * n->n_rows++], c);
     if (n->n_rows == SS_PROTO_MAX_ROWS) {
-        flush_rows(n);
+        if (c->paced) {
+            tx_start(n);
+        } else {
+            flush_rows(n);
+        }
     }
 }
 
@@ -109,7 +207,7 @@ static void run_end(void *ctx, uint8_t req, uint8_t ref_seq, uint32_t steps_done
 static uint64_t run_now(void *ctx)
 {
     const ss_node_serial_t *n = ctx;
-    return n->link->time_us(n->link->ctx);
+    return n->link->time_ns(n->link->ctx);
 }
 
 static ss_node_run_sink_t sink_of(ss_node_serial_t *n)
@@ -337,11 +435,13 @@ static void handle_run(ss_node_serial_t *n)
         return;
     }
     n->n_rows = 0;
+    n->fill = 0;
+    n->chunk_fs = 0;
     const ss_node_run_sink_t sink = sink_of(n);
     ss_node_refusal_t why;
     const ss_proto_error_t e =
         ss_node_core_run(&n->core, pk->seq, ss_get_u32(pk->payload), ss_get_u16(&pk->payload[4]),
-                         pk->payload[6], n->link->time_us(n->link->ctx), &sink, &why);
+                         pk->payload[6], n->link->time_ns(n->link->ctx), &sink, &why);
     if (e != SS_PERR_NONE) {
         send_refusal(n, e, &why);
     }
@@ -394,12 +494,19 @@ void ss_node_serial_session_reset(ss_node_serial_t *n)
     ss_proto_rx_init(&n->rx);
     ss_node_core_session_reset(&n->core);
     n->n_rows = 0;
+    if (n->tx_active && n->tx.sent > 0u) {
+        const uint8_t delimiter = 0u; /* ends the frame cut short: the next peer sees a bad frame */
+        (void)n->link->write(n->link->ctx, &delimiter, 1u);
+    }
+    n->tx_active = 0;
 }
 
 void ss_node_serial_init(ss_node_serial_t *n, const ss_port_link_t *link)
 {
     n->link = link;
     n->tx_seq = 0;
+    n->tx_active = 0;
+    n->fill = 0;
     ss_node_core_init(&n->core);
     ss_node_serial_session_reset(n);
 }
@@ -423,7 +530,8 @@ int ss_node_serial_poll(ss_node_serial_t *n)
     }
     if (n->core.running) {
         const ss_node_run_sink_t sink = sink_of(n);
-        ss_node_core_run_poll(&n->core, n->link->time_us(n->link->ctx), &sink);
+        ss_node_core_run_poll(&n->core, n->link->time_ns(n->link->ctx), &sink);
+        tx_background(n);
     }
     return 0;
 }

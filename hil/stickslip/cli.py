@@ -340,6 +340,8 @@ def cmd_hil_run(a: argparse.Namespace) -> int:
         else:
             client = NodeClient(url)
         with client as c:
+            if a.dt_s is not None:
+                c.set("step_s", a.dt_s)  # refused by name when out of the node's range
             _check_resolution(w, c.info.dt_s, 0.0, a.decimation)
             steps = run_budget(w, c.info.dt_s, a.mode, a.decimation)
             with Progress(f"{a.mode} run", total=steps, unit="step", quiet=a.quiet) as bar:
@@ -694,6 +696,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     hr.add_argument("--decimation", type=int, default=1, help="keep every N-th step")
     hr.add_argument("--paced", action="store_true", help="free mode: keep to real time")
+    hr.add_argument(
+        "--dt-s",
+        type=_finite("--dt-s"),
+        help="the node's model step for this run (its step_s parameter; default: the node's own, "
+        "1e-06 unless set); a paced run's slots follow it",
+    )
     hr.add_argument("--out", help="write the run as a stick-slip-dataset/1 folder")
     _add_json_option(hr, "the run's summary")
     _add_quiet_option(hr)

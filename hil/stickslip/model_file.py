@@ -15,7 +15,7 @@ from pathlib import Path
 
 from . import _native as N
 from .model import DT_S, ActuatorParams, Effects
-from .node_params import NODE_DT_S, node_values
+from .node_params import node_values
 
 FORMAT = "stick-slip-model/1"
 LAWS = ("ls", "lugre", "gms")
@@ -165,12 +165,10 @@ def c_header(m: ModelFile, guard: str = "SS_MODEL_H") -> str:
     body = "{\n" + N.c_initializer(m.config(), "") + "\n}"
     out += [line + " \\" for line in body.splitlines()[:-1]] + [body.splitlines()[-1]]
     if m.law in Q_LAWS:  # the node's parameter table in id order (docs/protocol.md)
-        values = node_values(m) if math.isclose(m.dt_s, NODE_DT_S) else None
-        if values is not None:
-            out += ["", "/* the node's parameters in id order (app/ss_node_params.def) */"]
-            out.append("#define SS_MODEL_NODE_PARAMS \\")
-            items = [f"    {N.c_value(v)}, /* {k} */" for k, v in values.items()]
-            out += ["{ \\"] + [i + " \\" for i in items] + ["}"]
+        out += ["", "/* the node's parameters in id order (app/ss_node_params.def) */"]
+        out.append("#define SS_MODEL_NODE_PARAMS \\")
+        items = [f"    {N.c_value(v)}, /* {k} */" for k, v in node_values(m).items()]
+        out += ["{ \\"] + [i + " \\" for i in items] + ["}"]
     q = m.config_q()
     out.append("")
     if q is None:

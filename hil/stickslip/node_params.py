@@ -4,7 +4,6 @@ clients' SET_MODEL (hil.node.model_values)."""
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 from .hil import protocol as P
@@ -12,20 +11,19 @@ from .hil import protocol as P
 if TYPE_CHECKING:
     from .model_file import ModelFile
 
-NODE_DT_S = 1e-6  # the host node's and the firmware's step (HELLO reports it)
+NODE_DT_S = 1e-6  # the node's default step (its step_s parameter; HELLO reports it)
 
 
-def node_values(model: ModelFile, node_dt_s: float = NODE_DT_S) -> dict[str, float]:
-    """Every node parameter (protocol.PARAM_NAMES, in id order) for a model file; ValueError for a
-    model the node cannot run: a law it has not (GMS) or another step than the node's."""
+def node_values(model: ModelFile) -> dict[str, float]:
+    """Every node parameter (protocol.PARAM_NAMES, in id order) for a model file, its step
+    included; ValueError for a model the node cannot run (a law it has not: GMS)."""
     if model.law not in P.NODE_LAWS:
         raise ValueError(
             f"the node runs {' or '.join(P.NODE_LAWS)} friction, the model {model.law}"
         )
-    if not math.isclose(model.dt_s, node_dt_s, rel_tol=1e-6):
-        raise ValueError(f"the node steps at {node_dt_s:g} s, the model at {model.dt_s:g} s")
     values = {k: float(v) for k, v in model.params.to_dict().items()}
     values["friction_model"] = P.NODE_LAWS[model.law]
-    for k in P.PARAM_NAMES[13:]:
+    for k in P.EFFECT_PARAMS:
         values[k] = float(getattr(model.effects, k))
+    values["step_s"] = float(model.dt_s)
     return {k: values[k] for k in P.PARAM_NAMES}

@@ -13,12 +13,12 @@
 #include <time.h>
 #include <unistd.h>
 
-static uint64_t posix_time_us(void *ctx)
+static uint64_t posix_time_ns(void *ctx)
 {
     (void)ctx;
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
+    return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
 }
 
 static int32_t write_all(int fd, const uint8_t *buf, size_t n, int is_socket)
@@ -88,7 +88,7 @@ int ss_posix_pty_open(ss_posix_link_t *l, char *path, size_t cap)
     l->link.ctx = l;
     l->link.read = pty_read;
     l->link.write = pty_write;
-    l->link.time_us = posix_time_us;
+    l->link.time_ns = posix_time_ns;
     return 0;
 }
 
@@ -195,7 +195,7 @@ int ss_posix_tcp_listen(ss_posix_link_t *l, uint16_t port, const uint8_t *refusa
     l->link.ctx = l;
     l->link.read = tcp_read;
     l->link.write = tcp_write;
-    l->link.time_us = posix_time_us;
+    l->link.time_ns = posix_time_ns;
     return 0;
 }
 

@@ -45,7 +45,7 @@ static uint64_t sc_time(void *ctx)
     (void)ctx;
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
+    return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
 }
 
 int ss_socketcan_open(ss_socketcan_t *s, const char *ifname)
@@ -77,6 +77,6 @@ int ss_socketcan_open(ss_socketcan_t *s, const char *ifname)
     s->can.ctx = s;
     s->can.read = sc_read;
     s->can.write = sc_write;
-    s->can.time_us = sc_time;
+    s->can.time_ns = sc_time;
     return 0;
 }

@@ -17,8 +17,9 @@ typedef struct {
     int32_t (*read)(void *ctx, uint8_t *buf, size_t max);
     /* Write all n bytes as one piece (one TCP segment where it matters): n, or -1 on failure. */
     int32_t (*write)(void *ctx, const uint8_t *buf, size_t n);
-    /* Monotonic microseconds. */
-    uint64_t (*time_us)(void *ctx);
+    /* Monotonic nanoseconds (as fine as the platform's clock: a paced run's deadlines are judged
+     * on it). */
+    uint64_t (*time_ns)(void *ctx);
 } ss_port_link_t;
 
 /* A CAN link: SocketCAN, a CAN controller, or SLCAN over a byte link (ss_slcan_port.h). */
@@ -28,7 +29,7 @@ typedef struct {
     int32_t (*read)(void *ctx, ss_can_frame_t *frame);
     /* Queue one frame: 1, or -1 on failure. */
     int32_t (*write)(void *ctx, const ss_can_frame_t *frame);
-    uint64_t (*time_us)(void *ctx);
+    uint64_t (*time_ns)(void *ctx); /* as the byte link's */
 } ss_port_can_t;
 
 #endif /* SS_PORT_H */

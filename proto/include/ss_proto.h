@@ -53,6 +53,8 @@ typedef enum {
 const char *ss_proto_error_name(ss_proto_error_t code);
 
 uint16_t ss_crc16_ccitt(const uint8_t *data, size_t n);
+/* The CRC after one more byte (start from 0xFFFF). */
+uint16_t ss_crc16_ccitt_update(uint16_t crc, uint8_t byte);
 
 /* COBS-encode n bytes into dst (no delimiter); returns the encoded size, 0 if cap is too small. */
 size_t ss_cobs_encode(const uint8_t *src, size_t n, uint8_t *dst, size_t cap);

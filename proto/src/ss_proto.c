@@ -9,14 +9,24 @@ const char *ss_proto_error_name(ss_proto_error_t code)
     return (i < sizeof names / sizeof names[0]) ? names[i] : "unknown_error";
 }
 
+/* The CRC of each 4-bit value shifted through the polynomial 0x1021: two lookups a byte instead of
+ * eight conditional shifts (about 12 instructions a byte on a Cortex-M against 45; a paced run's
+ * telemetry is encoded between steps, ss_proto_stream.h). */
+static const uint16_t CRC_NIBBLE[16] = {0x0000u, 0x1021u, 0x2042u, 0x3063u, 0x4084u, 0x50A5u,
+                                        0x60C6u, 0x70E7u, 0x8108u, 0x9129u, 0xA14Au, 0xB16Bu,
+                                        0xC18Cu, 0xD1ADu, 0xE1CEu, 0xF1EFu};
+
+uint16_t ss_crc16_ccitt_update(uint16_t crc, uint8_t byte)
+{
+    crc = (uint16_t)((uint16_t)(crc << 4) ^ CRC_NIBBLE[((crc >> 12) ^ (byte >> 4)) & 0xFu]);
+    return (uint16_t)((uint16_t)(crc << 4) ^ CRC_NIBBLE[((crc >> 12) ^ byte) & 0xFu]);
+}
+
 uint16_t ss_crc16_ccitt(const uint8_t *data, size_t n)
 {
     uint16_t crc = 0xFFFFu;
     for (size_t i = 0; i < n; ++i) {
-        crc ^= (uint16_t)((uint16_t)data[i] << 8);
-        for (int b = 0; b < 8; ++b) {
-            crc = (crc & 0x8000u) ? (uint16_t)((crc << 1) ^ 0x1021u) : (uint16_t)(crc << 1);
-        }
+        crc = ss_crc16_ccitt_update(crc, data[i]);
     }
     return crc;
 }

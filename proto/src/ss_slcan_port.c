@@ -89,7 +89,7 @@ static int32_t slcan_write(void *ctx, const ss_can_frame_t *frame)
 static uint64_t slcan_time(void *ctx)
 {
     ss_slcan_port_t *p = ctx;
-    return p->link->time_us(p->link->ctx);
+    return p->link->time_ns(p->link->ctx);
 }
 
 void ss_slcan_port_init(ss_slcan_port_t *p, const ss_port_link_t *link)
@@ -102,5 +102,5 @@ void ss_slcan_port_init(ss_slcan_port_t *p, const ss_port_link_t *link)
     p->can.ctx = p;
     p->can.read = slcan_read;
     p->can.write = slcan_write;
-    p->can.time_us = slcan_time;
+    p->can.time_ns = slcan_time;
 }

@@ -13,8 +13,8 @@ typedef struct {
     size_t in_n, in_at;
     uint8_t out[1 << 16];
     size_t out_n;
-    uint64_t now_us;
-    uint64_t tick_us; /* what each reading of the clock costs (a node that is slow to step) */
+    uint64_t now_ns;
+    uint64_t tick_ns; /* what each reading of the clock costs (a node that is slow to step) */
     int gone;         /* next read reports the peer gone */
 } fake_t;
 
@@ -46,8 +46,8 @@ static int32_t fake_write(void *ctx, const uint8_t *buf, size_t n)
 static uint64_t fake_time(void *ctx)
 {
     fake_t *f = ctx;
-    const uint64_t t = f->now_us;
-    f->now_us += f->tick_us;
+    const uint64_t t = f->now_ns;
+    f->now_ns += f->tick_ns;
     return t;
 }
 

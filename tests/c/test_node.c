@@ -155,7 +155,7 @@ static void test_set_model_is_all_or_nothing(void **unused)
     expect_error(request(SS_MSG_SET_MODEL, p, 10), SS_PERR_OUT_OF_RANGE, "slew_v_per_s: outside its range");
     p[5] = 99;
     expect_error(request(SS_MSG_SET_MODEL, p, 10), SS_PERR_UNKNOWN_PARAM, "id");
-    expect_error(request(SS_MSG_SET_MODEL, p, 7), SS_PERR_BAD_PAYLOAD, "SET_MODEL takes 1 to 27");
+    expect_error(request(SS_MSG_SET_MODEL, p, 7), SS_PERR_BAD_PAYLOAD, "SET_MODEL takes 1 to 28");
     expect_error(request(SS_MSG_SET_MODEL, p, 0), SS_PERR_BAD_PAYLOAD, "SET_MODEL");
     assert_memory_equal(&node.core.params, &before, sizeof before);
 }
@@ -323,7 +323,7 @@ static void test_free_run_paced_busy_stop(void **unused)
     /* paced: nothing is due until the clock moves */
     ss_node_serial_poll(&node);
     assert_int_equal(node.core.run_done, 0);
-    fk.now_us += 250; /* 250 us: 250 steps due */
+    fk.now_ns += 250000u; /* 250 us: 250 steps due */
     ss_node_serial_poll(&node);
     assert_int_equal(node.core.run_done, 250);
     expect_error(request(SS_MSG_RESET, w, 4), SS_PERR_BUSY, "run");
@@ -388,13 +388,13 @@ static void test_paced_deadline_after_16_s(void **unused)
 {
     (void)unused;
     load_paper_waveform(20000);
-    fk.now_us = 1000;
+    fk.now_ns = 1000000u;
     uint8_t run[7];
     ss_put_u32(run, 20000000u);
     ss_put_u16(&run[4], 60000);
     run[6] = 1;
     request(SS_MSG_RUN, run, 7);
-    fk.now_us += 16777219u;
+    fk.now_ns += 16777219000u;
     uint32_t before;
     do {
         before = node.core.run_done;
@@ -430,14 +430,14 @@ static void paced_run(uint32_t steps, uint8_t paced, uint64_t tick_us, uint32_t 
     ss_put_u32(run, steps);
     ss_put_u16(&run[4], 50);
     run[6] = paced;
-    fk.tick_us = 0;
+    fk.tick_ns = 0;
     request(SS_MSG_RUN, run, 7); /* an unpaced run ends in this poll */
-    fk.tick_us = tick_us;
+    fk.tick_ns = tick_us * 1000u;
     while (node.core.running) {
-        fk.now_us += 1;
+        fk.now_ns += 1000u;
         ss_node_serial_poll(&node);
     }
-    fk.tick_us = 0;
+    fk.tick_ns = 0;
     const ss_proto_packet_t *r = last_of_type(SS_MSG_RUN | SS_MSG_REPLY);
     assert_non_null(r);
     assert_int_equal(r->len, 9); /* ref_seq, u32 steps done, u32 misses */
@@ -457,7 +457,7 @@ static void test_paced_deadline_misses(void **unused)
 {
     (void)unused;
     load_paper_waveform(2);
-    fk.now_us = 100;
+    fk.now_ns = 100000u;
     uint32_t misses = 0;
     uint32_t tel = 0;
     /* the clock stands still while the node works: every step ends within its slot */
@@ -475,6 +475,108 @@ static void test_paced_deadline_misses(void **unused)
     /* unpaced: no deadlines */
     paced_run(200, 0, 1, &misses, &tel);
     assert_int_equal(misses, 0);
+}
+
+/* Every TELEMETRY row the node wrote since out_n was last cleared, in order, into rows (at most
+ * cap bytes); returns the bytes. */
+static size_t telemetry_rows(uint8_t *rows, size_t cap)
+{
+    ss_proto_rx_t rx;
+    ss_proto_rx_init(&rx);
+    size_t n = 0;
+    for (size_t i = 0; i < fk.out_n; ++i) {
+        int c = 0;
+        assert_int_equal(ss_proto_rx_push(&rx, fk.out[i], &reply, &c), SS_PERR_NONE);
+        if (c && reply.type == SS_MSG_TELEMETRY) {
+            const size_t bytes = (size_t)ss_get_u16(&reply.payload[5]) * SS_PROTO_ROW_BYTES;
+            assert_true(n + bytes <= cap);
+            memcpy(rows + n, &reply.payload[7], bytes);
+            n += bytes;
+        }
+    }
+    return n;
+}
+
+/* A paced run's telemetry goes out a piece at a time between steps: a frame of 40 rows is on its
+ * way across several slots, no step waits for it, and the rows are the unpaced run's. */
+static void test_paced_telemetry_goes_out_between_steps(void **unused)
+{
+    (void)unused;
+    static uint8_t want[100 * SS_PROTO_ROW_BYTES];
+    static uint8_t got[100 * SS_PROTO_ROW_BYTES];
+    load_paper_waveform(2);
+    uint8_t zero[4] = {0};
+    request(SS_MSG_RESET, zero, 4);
+    fk.out_n = 0;
+    uint8_t run[7];
+    ss_put_u32(run, 400);
+    ss_put_u16(&run[4], 5); /* 80 rows: two full frames */
+    run[6] = 0;
+    send_req(SS_MSG_RUN, host_seq++, run, 7);
+    while (fk.in_at < fk.in_n || node.core.running) {
+        ss_node_serial_poll(&node);
+    }
+    const size_t n_want = telemetry_rows(want, sizeof want);
+    assert_int_equal(n_want, 80u * SS_PROTO_ROW_BYTES);
+    request(SS_MSG_RESET, zero, 4);
+    fk.out_n = 0;
+    run[6] = 1; /* paced: 1 us slots; a reading of the clock takes 100 ns, and between polls the
+                 * node's loop spins until the next step is due */
+    send_req(SS_MSG_RUN, host_seq++, run, 7);
+    fk.tick_ns = 100u;
+    int polls_streaming = 0;
+    while (fk.in_at < fk.in_n || node.core.running) {
+        fk.now_ns += (ss_node_core_idle_fs(&node.core, fk.now_ns) + 999999u) / 1000000u;
+        ss_node_serial_poll(&node);
+        polls_streaming += node.tx_active;
+    }
+    fk.tick_ns = 0;
+    assert_int_equal(telemetry_rows(got, sizeof got), n_want);
+    assert_memory_equal(got, want, n_want);
+    assert_true(polls_streaming > 5); /* a frame took several slots' idle time */
+    const ss_proto_packet_t *r = last_of_type(SS_MSG_RUN | SS_MSG_REPLY);
+    assert_non_null(r);
+    assert_int_equal(ss_get_u32(&r->payload[5]), 0); /* no step missed its deadline */
+}
+
+/* The model's step is a parameter (step_s, id 27): HELLO reports it, the model steps by it, and a
+ * paced run's slot follows it, so the node that missed 1 us slots keeps up with 4 us ones. */
+static void test_step_is_a_parameter(void **unused)
+{
+    (void)unused;
+    uint8_t p[5] = {27};
+    ss_put_f32(&p[1], 4e-6f);
+    const ss_proto_packet_t *r = request(SS_MSG_SET_PARAM, p, 5);
+    assert_int_equal(r->type, SS_MSG_SET_PARAM | SS_MSG_REPLY);
+    r = request(SS_MSG_HELLO, NULL, 0);
+    assert_true(ss_get_f32(&r->payload[5]) == 4e-6f);
+    assert_true(node.core.cfg.dt_s == 4e-6f);
+    load_paper_waveform(2);
+    fk.now_ns = 100000u;
+    uint32_t misses = 0;
+    uint32_t tel = 0;
+    paced_run(200, 1, 1, &misses, &tel); /* about 2 us a step, as above, in 4 us slots */
+    assert_int_equal(misses, 0);
+    /* 200 steps of 4 us: 0.8 ms of the 2 ms period, as the library steps it */
+    ss_actuator_config_f32_t cfg = ss_actuator_config_table1_f32();
+    cfg.dt_s = 4e-6f;
+    ss_actuator_state_f32_t st;
+    ss_waveform_state_f32_t ws;
+    assert_int_equal(ss_waveform_init_f32(&node.core.wave, cfg.dt_s, &ws), SS_OK);
+    assert_int_equal(ss_actuator_init_f32(&cfg, &st, ss_waveform_value_f32(&node.core.wave, &ws)), SS_OK);
+    for (int k = 0; k < 200; ++k) {
+        assert_int_equal(ss_actuator_wave_step_f32(&cfg, &st, &node.core.wave, &ws), SS_OK);
+    }
+    assert_memory_equal(&node.core.st.x_slider, &st.x_slider, sizeof st.x_slider);
+    /* out of the library's range, or not a number: refused by name, nothing changes */
+    const ss_node_params_t before = node.core.params;
+    const float bad[] = {0.0f, 2e-3f, NAN};
+    for (int i = 0; i < 3; ++i) {
+        ss_put_f32(&p[1], bad[i]);
+        expect_error(request(SS_MSG_SET_PARAM, p, 5),
+                     isnan(bad[i]) ? SS_PERR_NON_FINITE : SS_PERR_OUT_OF_RANGE, "step_s");
+    }
+    assert_memory_equal(&node.core.params, &before, sizeof before);
 }
 
 static void test_garbage_unknown_and_disconnect(void **unused)
@@ -705,7 +807,7 @@ static void test_can_lockstep_busy_and_traffic(void **unused)
     ss_node_can_poll(&can_node);
     assert_true(ss_can_unpack_reply(&can_out[can_out_n - 1], &r) && r.status == SS_PERR_BUSY);
     assert_int_equal(can_cmd(SS_CAN_CMD_RESET, 43, 0, 0, 0.0f).status, SS_PERR_BUSY);
-    fk.now_us += 500;
+    fk.now_ns += 500000u;
     ss_node_can_poll(&can_node);
     assert_true(can_node.core.run_done > 0);
     r = can_cmd(SS_CAN_CMD_STOP, 44, 0, 0, 0.0f);
@@ -726,6 +828,8 @@ int main(void)
         cmocka_unit_test(test_no_accepted_drive_makes_the_state_non_finite),
         cmocka_unit_test_setup(test_free_run_paced_busy_stop, setup),
         cmocka_unit_test_setup(test_paced_deadline_misses, setup),
+        cmocka_unit_test_setup(test_step_is_a_parameter, setup),
+        cmocka_unit_test_setup(test_paced_telemetry_goes_out_between_steps, setup),
         cmocka_unit_test_setup(test_garbage_unknown_and_disconnect, setup),
         cmocka_unit_test_setup(test_set_param_then_run_does_not_jump, setup),
         cmocka_unit_test_setup(test_paced_deadline_after_16_s, setup),

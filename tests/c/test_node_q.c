@@ -215,6 +215,20 @@ static void test_set_param_converts(void **unused)
     ss_put_f32(&p[1], 1.0f);
     assert_int_equal(request(SS_MSG_SET_PARAM, p, 5)->type, SS_MSG_SET_PARAM | SS_MSG_REPLY);
     assert_int_equal(node.core.cfg.friction_model, SS_FRICTION_Q_LUGRE);
+    /* the step (step_s) too: 4 us as the converter gives it; 10 ns is below dt_q40's range */
+    p[0] = 27;
+    ss_put_f32(&p[1], 4e-6f);
+    assert_int_equal(request(SS_MSG_SET_PARAM, p, 5)->type, SS_MSG_SET_PARAM | SS_MSG_REPLY);
+    f.friction_model = SS_FRICTION_LUGRE;
+    f.dt_s = 4e-6f;
+    assert_int_equal(ss_actuator_config_to_q(&f, &want, NULL), SS_OK);
+    assert_memory_equal(&node.core.cfg, &want, sizeof want);
+    ss_put_f32(&p[1], 1e-8f);
+    r = request(SS_MSG_SET_PARAM, p, 5);
+    assert_int_equal(r->type, SS_MSG_ERROR);
+    assert_int_equal(r->payload[1], SS_PERR_OUT_OF_RANGE);
+    assert_memory_equal(&r->payload[3], "step_s", 6);
+    assert_memory_equal(&node.core.cfg, &want, sizeof want);
 }
 
 int main(void)

@@ -118,7 +118,7 @@ def c_param_table() -> list[tuple[str, float, float]]:
 
 def test_python_parameter_ids_match_the_c_table_entry_by_entry():
     table = c_param_table()
-    assert len(table) == 27  # 13 actuator and friction parameters, 14 effects
+    assert len(table) == 28  # 13 actuator and friction parameters, 14 effects, the step
     assert [name for name, _, _ in table] == P.PARAM_NAMES
     for i, (name, lo, hi) in enumerate(table):
         assert P.PARAM_NAMES.index(name) == i and lo < hi
@@ -337,6 +337,23 @@ def test_hil_run_command_records_a_dataset(tmp_path, capsys):
     assert "--cycles" in capsys.readouterr().err
 
 
+def test_hil_run_at_another_step(capsys):
+    # --dt-s sets the node's step_s for the run: the free run is the library's at that step
+    import json
+
+    args = ["hil", "run", "--node-link", "tcp", "--mode", "free", "--cycles", "2"]
+    assert main([*args, "--dt-s", "1e-5", "--decimation", "10", "--json"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["node"]["dt_s"] == np.float32(1e-5) and s["steps"] == 400
+    r = simulate(Sawtooth(cycles=2), dt_s=s["node"]["dt_s"])
+    assert s["mean_step_per_cycle_m"] == pytest.approx(r.mean_step_m, rel=1e-6)
+    # out of the node's range: refused by the node, by name, with the range
+    assert main([*args, "--dt-s", "0.01"]) == 2
+    assert "step_s: outside its range (PARAM_INFO): [1e-09, 0.001] (sent 0.01)" in (
+        capsys.readouterr().err
+    )
+
+
 def test_reconnect_at_once_is_served(tcp_node):
     # a client that closes and a new one that connects before the node has polled: the node must
     # see the old session is over rather than refuse the new client as a second one
@@ -395,6 +412,27 @@ def test_a_model_with_effects_runs_on_the_node_bit_for_bit(how):
     assert np.array_equal(f32(tel.friction_n), f32(r.force_n[1:4001]))
 
 
+def test_a_model_at_its_own_step_runs_at_that_step(tcp_node):
+    # the model file's step goes to the node (step_s) with the rest; the client's info follows,
+    # and the node's run is the library's at that step, bit for bit
+    import dataclasses
+
+    m = dataclasses.replace(_model_with_effects(), dt_s=2.5e-6)
+    w = Sawtooth(cycles=2)
+    r = simulate(w, m.params, model=m.law, effects=m.effects, dt_s=m.dt_s)
+    with NodeClient(tcp_node.url) as c:
+        c.load_model(m)
+        assert c.info.dt_s == np.float32(2.5e-6) and c.get("step_s") == c.info.dt_s
+        c.reset(float(r.drive_v[0]))
+        tel = c.lockstep(r.drive_v[1:1601])
+        assert np.array_equal(f32(tel.x_slider_m), f32(r.x_slider_m[1:1601]))
+        # and back to 1 us one parameter at a time: a step out of the library's range is refused
+        assert c.set("step_s", 1e-6) == np.float32(1e-6) and c.info.dt_s == np.float32(1e-6)
+        with pytest.raises(NodeError, match=r"step_s: outside its range.*\[1e-09, 0.001\]"):
+            c.set("step_s", 0.01)
+        assert c.info.dt_s == np.float32(1e-6)
+
+
 def test_a_model_the_node_cannot_run_is_refused_by_name(tcp_node):
     import dataclasses
 
@@ -404,8 +442,6 @@ def test_a_model_the_node_cannot_run_is_refused_by_name(tcp_node):
     with NodeClient(tcp_node.url) as c:
         with pytest.raises(HilError, match="the node runs ls or lugre friction, the model gms"):
             c.load_model(dataclasses.replace(m, law="gms"))
-        with pytest.raises(HilError, match="the node steps at 1e-06 s, the model at 2e-06 s"):
-            c.load_model(dataclasses.replace(m, dt_s=2e-6))
         # all or nothing: a rule between fields refuses the whole set
         with pytest.raises(NodeError, match="model: effects.hysteresis_width_m"):
             c.set_model({"load_n": 0.3, "hysteresis_alpha": 0.2, "hysteresis_width_m": 0.0})

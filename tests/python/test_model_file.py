@@ -222,14 +222,17 @@ def _node_with_header(tmp_path: Path, m: MF.ModelFile, variant: str) -> subproce
 
 @pytest.mark.skipif(not shutil.which("cc"), reason="no C compiler")
 def test_a_model_header_compiled_into_the_node_is_its_default(tmp_path):
-    from stickslip.hil.node import NODE_DT_S, model_values
+    from stickslip.hil.node import model_values
 
-    m = MF.ModelFile(ActuatorParams.table1(), "lugre", Effects(load_n=0.05, slew_v_per_s=3e6))
+    # at a step other than the node's default 1 us: the header's step_s sets it
+    m = MF.ModelFile(
+        ActuatorParams.table1(), "lugre", Effects(load_n=0.05, slew_v_per_s=3e6), dt_s=2e-6
+    )
     built = _node_with_header(tmp_path, m, "f32")
     assert built.returncode == 0, built.stderr
     out = subprocess.run([str(tmp_path / "node")], capture_output=True, text=True).stdout.split()
     values = [float(v) for v in out[:-1]]
-    assert values == pytest.approx(list(model_values(m, NODE_DT_S).values()), rel=1e-7)
+    assert values == pytest.approx(list(model_values(m).values()), rel=1e-7)
     assert bytes.fromhex(out[-1]) == bytes(m.config())  # the config the node runs, bit for bit
     # the fixed-point node runs the load and the slew limit: its config is the header's q one
     q = _node_with_header(tmp_path / "q", m, "q")

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import can
@@ -187,7 +188,10 @@ class CanNodeClient:
         return self.request("GET_PARAM", index=self._id(param))["value"]
 
     def set(self, param: int | str, value: float) -> float:
-        return self.request("SET_PARAM", index=self._id(param), value=value)["value"]
+        applied = self.request("SET_PARAM", index=self._id(param), value=value)["value"]
+        if self._id(param) == P.STEP_ID:  # the node's step changed: info and pacing follow
+            self.info = replace(self.info, dt_s=applied)
+        return applied
 
     def params(self) -> dict[str, ParamInfo]:
         return {
@@ -199,11 +203,14 @@ class CanNodeClient:
         stages a value, APPLY_MODEL applies the staged set, all or none); returns how many."""
         for k, v in values.items():
             self.request("SET_PARAM", index=self._id(k), flags=1, value=float(v))
-        return _steps_done("APPLY_MODEL", self.request("APPLY_MODEL")["value"])
+        n = _steps_done("APPLY_MODEL", self.request("APPLY_MODEL")["value"])
+        if "step_s" in values:
+            self.info = replace(self.info, dt_s=self.get(P.STEP_ID))
+        return n
 
     def load_model(self, model: ModelFile) -> None:
         """The node runs `model` from now on (model_values: every parameter, effects included)."""
-        self.set_model(model_values(model, self.info.dt_s))
+        self.set_model(model_values(model))
 
     def reset(self, drive0_v: float = 0.0, x0_m: float = 0.0) -> None:
         """The model at rest at drive0_v; the CAN RESET places the slider at 0 only."""

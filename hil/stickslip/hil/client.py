@@ -241,7 +241,10 @@ class NodeClient:
             p = self.param_info(param if isinstance(param, int) else P.PARAM_NAMES.index(param))
             words = f"{e.reason}: [{p.min:g}, {p.max:g}] (sent {value!r})"
             raise NodeError(e.code, e.request_type, words) from None
-        return struct.unpack_from("<Bf", checked("SET_PARAM", reply, 5))[1]
+        pid, applied = struct.unpack_from("<Bf", checked("SET_PARAM", reply, 5))
+        if pid == P.STEP_ID:  # the node's step changed: what info says, and pacing goes by
+            self.info = replace(self.info, dt_s=applied)
+        return applied
 
     def set_model(self, values: dict[str, float]) -> int:
         """SET_MODEL: every parameter given at once, applied together or not at all (the node
@@ -249,11 +252,14 @@ class NodeClient:
         payload = b"".join(
             struct.pack("<Bf", P.PARAM_NAMES.index(k), float(v)) for k, v in values.items()
         )
-        return checked("SET_MODEL", self.request(P.SET_MODEL, payload), 1)[0]
+        n = checked("SET_MODEL", self.request(P.SET_MODEL, payload), 1)[0]
+        if "step_s" in values:
+            self.info = replace(self.info, dt_s=self.get(P.STEP_ID))
+        return n
 
     def load_model(self, model: ModelFile) -> None:
         """The node runs `model` from now on (model_values: every parameter, effects included)."""
-        self.set_model(model_values(model, self.info.dt_s))
+        self.set_model(model_values(model))
 
     def reset(self, drive0_v: float = 0.0, x0_m: float = 0.0) -> None:
         """The model at rest at drive0_v, the slider at x0_m (|x0_m| <= 1 m)."""

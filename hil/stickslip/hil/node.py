@@ -13,7 +13,7 @@ import numpy as np
 from .. import _native as N
 from ..model import Sawtooth, SimResult
 from ..model_file import ModelFile
-from ..node_params import NODE_DT_S, node_values
+from ..node_params import node_values
 from . import protocol as P
 
 # called with the steps done so far, on long runs (the CLI's progress display)
@@ -60,11 +60,11 @@ def check_socket_url(url: str) -> None:
         )
 
 
-def model_values(model: ModelFile, node_dt_s: float) -> dict[str, float]:
-    """Every node parameter (protocol.PARAM_NAMES) for a model file (node_params.node_values), or
-    HilError for a model the node cannot run: a law it has not (GMS) or another step."""
+def model_values(model: ModelFile) -> dict[str, float]:
+    """Every node parameter (protocol.PARAM_NAMES) for a model file (node_params.node_values), its
+    step included, or HilError for a model the node cannot run (a law it has not: GMS)."""
     try:
-        return node_values(model, node_dt_s)
+        return node_values(model)
     except ValueError as e:
         raise HilError(str(e)) from None
 
@@ -72,7 +72,7 @@ def model_values(model: ModelFile, node_dt_s: float) -> dict[str, float]:
 def model_args(model: ModelFile) -> list[str]:
     """stickslip_node's --set options that make it serve `model` (every parameter)."""
     args = []
-    for k, v in model_values(model, NODE_DT_S).items():
+    for k, v in model_values(model).items():
         args += ["--set", f"{k}={v!r}"]
     return args
 

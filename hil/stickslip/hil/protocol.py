@@ -88,7 +88,11 @@ PARAM_NAMES = [
     "base_freq_hz",
     "base_damping_ratio",
     "sensor_scale_error",
+    # the model's step (id 27), the node's clock for paced runs
+    "step_s",
 ]
+STEP_ID = PARAM_NAMES.index("step_s")
+EFFECT_PARAMS = PARAM_NAMES[PARAM_NAMES.index("friction_asymmetry") : PARAM_NAMES.index("step_s")]
 NODE_LAWS = {"ls": 0.0, "lugre": 1.0}  # the friction_model parameter's values
 
 

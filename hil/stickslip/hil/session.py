@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import dataset as D
-from ..model import DT_S, ActuatorParams, Sawtooth, drive_samples, simulate
+from ..model import ActuatorParams, Sawtooth, drive_samples, simulate
 from .node import NodeSession, StepProgress, Telemetry
 
 
@@ -89,9 +89,10 @@ def lockstep_drive(w: Sawtooth, dt_s: float, steps: int, variant: str = "f32") -
     conversion back to Q16.16 gives the q model's own drive."""
     if variant != "q":
         return drive_samples(w, dt_s, steps)
-    # the node's step is Table I's (1 us as dt_q40; dt_s reports it as 1.0000003 us)
-    hold_s = max(0, steps - int(round(w.duration_s / DT_S))) * DT_S
-    drive = simulate(w, variant="q", hold_s=hold_s).drive_v[: steps + 1]
+    # dt_s as the node reports it (dt_q40 x 2^-40, 1.0000003 us for Table I's 1 us): the q
+    # converter gives the same dt_q40 back
+    hold_s = max(0, steps - int(round(w.duration_s / dt_s))) * dt_s
+    drive = simulate(w, variant="q", dt_s=dt_s, hold_s=hold_s).drive_v[: steps + 1]
     if len(drive) != steps + 1:
         raise ValueError(f"q drive: {len(drive) - 1} steps, not {steps}")
     return drive.astype(np.float32)
