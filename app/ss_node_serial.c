@@ -69,26 +69,9 @@ static void put_row(uint8_t *b, const ss_node_core_t *c)
 
 /* ------------------------------------------------------------------ a free run's output */
 
-static void flush_rows(ss_node_serial_t *n)
-{
-    if (n->n_rows == 0u) {
-        return;
-    }
-    uint8_t p[7 + SS_PROTO_MAX_ROWS * SS_PROTO_ROW_BYTES + 4];
-    p[0] = n->core.run_seq;
-    ss_put_u32(&p[1], n->first_row_step);
-    ss_put_u16(&p[5], (uint16_t)n->n_rows);
-    const size_t bytes = (size_t)n->n_rows * SS_PROTO_ROW_BYTES;
-    for (size_t i = 0; i < bytes; ++i) {
-        p[7 + i] = n->rows[n->fill][i];
-    }
-    ss_put_u32(&p[7 + bytes], n->core.run_misses); /* the run's deadline misses so far */
-    send_frame(n, SS_MSG_TELEMETRY, p, 7u + bytes + 4u);
-    n->n_rows = 0;
-}
-
-/* A paced run's telemetry frame, streamed (ss_proto_stream.h): the same bytes flush_rows sends,
- * encoded and handed to the link SS_NODE_SERIAL_TX_CHUNK bytes at a time between steps. */
+/* A free run's TELEMETRY frame is built by the streaming encoder (ss_proto_stream.h): at once in
+ * an unpaced run and at a run's end, SS_NODE_SERIAL_TX_CHUNK bytes at a time between steps in a
+ * paced one. Its payload: run seq, first step, row count, the rows, the run's misses so far. */
 
 /* Put up to max more bytes of the frame's payload: its head, its rows, the misses so far. */
 static void tx_put(ss_node_serial_t *n, size_t max)
@@ -141,8 +124,8 @@ static void tx_finish(ss_node_serial_t *n)
     }
 }
 
-/* rows[fill] is full: its frame starts on its way and the other buffer fills. If the last frame
- * is still going (the steps left no time for it), it goes out whole now: its buffer is needed. */
+/* rows[fill]'s frame starts on its way and the other buffer fills. If the last frame is still
+ * going (the steps left no time for it), it goes out whole now: its buffer is needed. */
 static void tx_start(ss_node_serial_t *n)
 {
     tx_finish(n);
@@ -158,6 +141,15 @@ static void tx_start(ss_node_serial_t *n)
     n->tx_active = 1;
     n->fill ^= 1u;
     n->n_rows = 0;
+}
+
+/* The rows gathered so far, sent now (a frame, if there are any). */
+static void flush_rows(ss_node_serial_t *n)
+{
+    if (n->n_rows > 0u) {
+        tx_start(n);
+        tx_finish(n);
+    }
 }
 
 /* Between steps: the frame's next piece, while the next step is not due before the longest piece
@@ -185,10 +177,9 @@ static void run_row(void *ctx, const ss_node_core_t *c)
     }
     put_row(&n->rows[n->fill][(size_t)SS_PROTO_ROW_BYTES * n->n_rows++], c);
     if (n->n_rows == SS_PROTO_MAX_ROWS) {
-        if (c->paced) {
-            tx_start(n);
-        } else {
-            flush_rows(n);
+        tx_start(n);
+        if (!c->paced) {
+            tx_finish(n);
         }
     }
 }

@@ -38,9 +38,22 @@ static void send_req(uint8_t type, uint8_t seq, const uint8_t *p, size_t n)
     push_bytes(w, m);
 }
 
+/* The next frame the node wrote, decoding from out[*at] on (NULL: no more); every frame good. */
+static ss_proto_packet_t reply;
+static const ss_proto_packet_t *next_frame(ss_proto_rx_t *rx, size_t *at)
+{
+    while (*at < fk.out_n) {
+        int c = 0;
+        assert_int_equal(ss_proto_rx_push(rx, fk.out[(*at)++], &reply, &c), SS_PERR_NONE);
+        if (c) {
+            return &reply;
+        }
+    }
+    return NULL;
+}
+
 /* Send a request with the next seq, poll, and return the node's last frame (NULL if none: a
  * RUN answers when it ends). */
-static ss_proto_packet_t reply;
 static const ss_proto_packet_t *request(uint8_t type, const uint8_t *p, size_t n)
 {
     fk.out_n = 0;
@@ -48,13 +61,12 @@ static const ss_proto_packet_t *request(uint8_t type, const uint8_t *p, size_t n
     ss_node_serial_poll(&node);
     ss_proto_rx_t rx;
     ss_proto_rx_init(&rx);
-    int frames = 0;
-    for (size_t i = 0; i < fk.out_n; ++i) {
-        int c = 0;
-        assert_int_equal(ss_proto_rx_push(&rx, fk.out[i], &reply, &c), SS_PERR_NONE);
-        frames += c;
+    size_t at = 0;
+    const ss_proto_packet_t *last = NULL;
+    for (const ss_proto_packet_t *f; (f = next_frame(&rx, &at)) != NULL;) {
+        last = f;
     }
-    return (frames > 0) ? &reply : NULL;
+    return last;
 }
 
 static void expect_error(const ss_proto_packet_t *r, ss_proto_error_t code, const char *in_reason)
@@ -409,12 +421,11 @@ static const ss_proto_packet_t *last_of_type(uint8_t type)
 {
     ss_proto_rx_t rx;
     ss_proto_rx_init(&rx);
+    size_t at = 0;
     const ss_proto_packet_t *last = NULL;
-    for (size_t i = 0; i < fk.out_n; ++i) {
-        int c = 0;
-        assert_int_equal(ss_proto_rx_push(&rx, fk.out[i], &reply, &c), SS_PERR_NONE);
-        if (c && reply.type == type) {
-            found = reply;
+    for (const ss_proto_packet_t *f; (f = next_frame(&rx, &at)) != NULL;) {
+        if (f->type == type) {
+            found = *f;
             last = &found;
         }
     }
@@ -483,14 +494,13 @@ static size_t telemetry_rows(uint8_t *rows, size_t cap)
 {
     ss_proto_rx_t rx;
     ss_proto_rx_init(&rx);
+    size_t at = 0;
     size_t n = 0;
-    for (size_t i = 0; i < fk.out_n; ++i) {
-        int c = 0;
-        assert_int_equal(ss_proto_rx_push(&rx, fk.out[i], &reply, &c), SS_PERR_NONE);
-        if (c && reply.type == SS_MSG_TELEMETRY) {
-            const size_t bytes = (size_t)ss_get_u16(&reply.payload[5]) * SS_PROTO_ROW_BYTES;
+    for (const ss_proto_packet_t *f; (f = next_frame(&rx, &at)) != NULL;) {
+        if (f->type == SS_MSG_TELEMETRY) {
+            const size_t bytes = (size_t)ss_get_u16(&f->payload[5]) * SS_PROTO_ROW_BYTES;
             assert_true(n + bytes <= cap);
-            memcpy(rows + n, &reply.payload[7], bytes);
+            memcpy(rows + n, &f->payload[7], bytes);
             n += bytes;
         }
     }
