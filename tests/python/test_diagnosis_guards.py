@@ -23,6 +23,8 @@ from stickslip.diagnosis.guards import (
     range_problems,
     share_removed,
 )
+from stickslip.diagnosis.pipeline import _Session
+from stickslip.diagnosis.screen import Screened, predicted_share
 from stickslip.model import ActuatorParams, Effects
 
 
@@ -214,3 +216,19 @@ def test_an_excused_family_does_not_count_in_the_total_either():
         ]
     )
     assert v.confirmed, v.reasons
+
+
+def _screened(parent_mse: float, mse: float, n: int = 1000) -> Screened:
+    return Screened("external_load", {}, mse * n, n, parent_mse * n, 1.0)
+
+
+def test_a_further_cause_is_fitted_only_if_screened_to_carry_half_its_final_share():
+    s = _Session(ActuatorParams.table1(), [], [], [], 2e-9, None, lambda _: None)
+    # the parent at 10 x the noise (mse 100 noise variances); staying unexplained, the final
+    # check will demand 80 % of a cause, so the screen must predict 40 %
+    assert predicted_share(_screened(100.0, 60.0)) == pytest.approx(40 / 99)
+    assert s.could_carry(_screened(100.0, 60.0))
+    assert not s.could_carry(_screened(100.0, 70.0))
+    # predicted within 3 x the noise (mse 4: 2 x), half of the explained model's 50 %
+    assert s.could_carry(_screened(6.0, 4.0))  # 40 %
+    assert not s.could_carry(_screened(4.6, 4.0))  # 17 %

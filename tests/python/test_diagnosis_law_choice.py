@@ -119,3 +119,46 @@ def test_the_screen_keeps_each_law_s_best_probe_at_nominal():
     x = screen(lin, [1], "base_compliance", points, probes, nominal, np.array([1.0, 1.0, 1.0]))
     assert x.nominal_points == {"ls": points[1], "lugre": points[0]}
     assert x.from_nominal and x.law == "ls" and x.values == points[1]
+
+
+class _Now:
+    """An executor that runs each job at once."""
+
+    def submit(self, fn, *args):
+        fu: Future = Future()
+        fu.set_result(fn(*args))
+        return fu
+
+
+def test_the_law_chosen_again_goes_on_only_under_laws_whose_first_stage_comes_near(monkeypatch):
+    # the chosen model (LuGre, a load kept) scores 1e6 per cycle; LS's first stage ends 5 x above
+    # it and goes on to its second stage, GMS's 50 x above and stops there
+    firsts = {"ls": 5e6, "gms": 5e7}
+    seconds = []
+    monkeypatch.setattr(PL, "per_cycle_cost", lambda train, nominal, m, free, noise: 1e6)
+    monkeypatch.setattr(
+        PL,
+        "first_stage",
+        lambda train, nominal, m, free, noise, nfev, grid: (
+            np.array([firsts[m.law]]),
+            firsts[m.law],
+        ),
+    )
+
+    def second(train, val, nominal, m, free, noise, theta):
+        seconds.append((m.law, float(theta[0])))
+        return FitResult(free, m, m.values(), 0.0, 0), Evaluation(0, 0, 1e3, 1000)
+
+    monkeypatch.setattr(PL, "_fit_from_and_validate", second)
+    s, _, _ = _session()
+    s.ex = _Now()
+    m = Model(BENT, Effects(load_n=0.1), law="lugre")
+    f = FitResult(Free(("normal_force_n",), ("external_load",)), m, m.values(), 0.0, 0)
+    chosen = Candidate(f, Evaluation(0, 0, 1e3, 1000), 0.0)
+    assert PL._rechoose_law(s, chosen) is chosen  # LS no better on the validation runs
+    assert seconds == [("ls", 5e6)]
+    # every other law far off: no second stage at all
+    firsts["ls"] = 2e7
+    seconds.clear()
+    assert PL._rechoose_law(s, chosen) is chosen
+    assert seconds == []

@@ -706,6 +706,16 @@ def first_stage(
 
 
 @with_one_blas_thread
+def per_cycle_cost(
+    runs: list[FitRun], nominal: ActuatorParams, model: Model, free: Free, noise_m: float
+) -> float:
+    """The first stage's cost (the per-cycle residual's sum of squares over the noise) at model's
+    own point: a fitted model's side of a comparison with first stages fitted elsewhere."""
+    p = _Problem(runs, nominal, model, free, noise_m)
+    return float(np.sum(p.res_at(p.theta0, True) ** 2))
+
+
+@with_one_blas_thread
 def fit_from(
     runs: list[FitRun],
     nominal: ActuatorParams,

@@ -17,7 +17,7 @@ import numpy as np
 
 from .catalog import CAUSE_PARAMS, CAUSE_START
 from .fit import FitRun, Model, residuals, strides
-from .guards import LM_DAMPING, Linearization
+from .guards import LM_DAMPING, Linearization, share_removed
 
 
 def probe_points(cause: str) -> list[dict[str, float]]:
@@ -137,6 +137,12 @@ def promising(s: Screened, k_added: int, min_bic_drop: float, min_mse_drop: floa
         return True
     bic_drop = s.n_val * math.log(s.rss_parent / s.rss_val) - k_added * math.log(s.n_val)
     return bic_drop > min_bic_drop and (s.rss_parent - s.rss_val) / s.n_val > min_mse_drop
+
+
+def predicted_share(s: Screened) -> float:
+    """Share of its parent's error above the noise (the parent as the screen refits it) that the
+    screened cause is predicted to remove, guards.share_removed's measure to first order."""
+    return share_removed(s.rss_parent / s.n_val, s.rss_val / s.n_val)
 
 
 def predicted_bic(s: Screened, k: int, n: int, noise_m: float) -> float:
