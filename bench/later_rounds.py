@@ -11,6 +11,8 @@ round could not use"): for each dataset folder, one diagnosis, and one JSON line
 
     PYTHONPATH=hil:bench .venv/bin/python bench/later_rounds.py DATASET_DIR [DATASET_DIR ...]
 
+With --first-round the first round's screen (on the calibrated law, no cause yet) is logged too.
+
 The diagnoses' answers are the pipeline's own; the first-stage costs of a law the re-choice
 stopped are still computed here, once more, to be reported (so the wall times are not the
 diagnosis' own).
@@ -28,12 +30,12 @@ from stickslip.diagnosis import fit as F
 from stickslip.diagnosis.screen import predicted_share
 
 
-def install(log: dict) -> None:
+def install(log: dict, first_round: bool = False) -> None:
     extend, judged, rechoose = P._Session.extend, P._Session.judged, P._rechoose_law
 
     def logged_extend(self, parent, causes):
         out = extend(self, parent, causes)
-        if parent.causes:
+        if parent.causes or first_round:
             fitted = {c.causes[-1] for c in out}
             log["screens"].append(
                 {
@@ -44,6 +46,8 @@ def install(log: dict) -> None:
                             "cause": x.cause,
                             "predicted_share": predicted_share(x),
                             "fitted": x.cause in fitted,
+                            "screened_on": x.on_calibrated
+                            or (f"{x.law} at nominal" if x.from_nominal else ""),
                         }
                         for x in self.screened.get(id(parent), [])
                     ],
@@ -53,7 +57,7 @@ def install(log: dict) -> None:
 
     def logged_judged(self, cand, parent):
         v = judged(self, cand, parent)
-        if parent.causes:
+        if parent.causes or first_round:
             log["judged"].append(
                 {"causes": list(cand.causes), "share": v.share, "confirmed": v.confirmed}
             )
@@ -79,9 +83,10 @@ def install(log: dict) -> None:
 
 
 def main() -> int:
-    for path in sys.argv[1:]:
+    first_round = "--first-round" in sys.argv
+    for path in [a for a in sys.argv[1:] if a != "--first-round"]:
         log: dict = {"screens": [], "judged": [], "rechoose": []}
-        install(log)
+        install(log, first_round)
         t0 = time.perf_counter()
         d = P.diagnose(path)
         row = {"dataset": path, "causes": list(d.causes), "wall_s": time.perf_counter() - t0}
