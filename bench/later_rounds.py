@@ -29,6 +29,8 @@ import stickslip.diagnosis.pipeline as P
 from stickslip.diagnosis import fit as F
 from stickslip.diagnosis.screen import predicted_share
 
+_ORIG = (P._Session.extend, P._Session.judged, P._rechoose_law)
+
 
 def install(log: dict, first_round: bool = False) -> None:
     extend, judged, rechoose = P._Session.extend, P._Session.judged, P._rechoose_law
@@ -95,8 +97,6 @@ def main() -> int:
         P._rechoose_law = _ORIG[2]
     return 0
 
-
-_ORIG = (P._Session.extend, P._Session.judged, P._rechoose_law)
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -386,9 +386,9 @@ def _fit_under_best_law(train, val, nominal, starts, noise_m, max_nfev=FIT_NFEV)
     ]
     i = int(np.argmin([cost for _, cost in firsts]))
     m, free, _ = starts[i]
-    f = fit_from(train, nominal, m, free, noise_m, firsts[i][0], max_nfev)
+    f, v = _fit_from_and_validate(train, val, nominal, m, free, noise_m, firsts[i][0], max_nfev)
     f.first_stage_costs = {s[0].law: cost for s, (_, cost) in zip(starts, firsts)}
-    return f, evaluate(val, f.model, noise_m)
+    return f, v
 
 
 def default_executor() -> Executor:
@@ -540,9 +540,8 @@ class _Session:
         """Is a further cause screened to remove at least SCREEN_SHARE_OF_NEED of the share the
         final check will demand of it (FINAL_SHARE in a model its prediction explains, else
         UNEXPLAINED_FINAL_SHARE)? Below, its fit is not worth its hundreds of simulations."""
-        explained = math.sqrt(x.rss_val / x.n_val) * self.noise_m <= (
-            UNEXPLAINED_RMSE_OVER_NOISE * self.sensor_noise_m
-        )
+        rmse_m = math.sqrt(x.rss_val / x.n_val) * self.noise_m
+        explained = _within_unexplained_limit(rmse_m, self.sensor_noise_m)
         need = FINAL_SHARE if explained else UNEXPLAINED_FINAL_SHARE
         return predicted_share(x) >= SCREEN_SHARE_OF_NEED * need
 
@@ -1083,11 +1082,12 @@ def _rechoose_law(s: _Session, chosen: Candidate) -> Candidate:
         s.ex.submit(first_stage, s.train, s.nominal, m, free, s.noise_m, FIT_NFEV, False)
         for m, free in starts
     ]
+    limit = LAW_CHOSEN_RATIO * own.result()
     futs = [
         s.ex.submit(_fit_from_and_validate, s.train, s.val, s.nominal, m, free, s.noise_m, theta)
         for (m, free), fu in zip(starts, firsts)
         for theta, cost in [fu.result()]
-        if cost <= LAW_CHOSEN_RATIO * own.result()
+        if cost <= limit
     ]
     if not futs:
         return chosen
@@ -1158,7 +1158,11 @@ def _better(new: Candidate, old: Candidate, noise_m: float, floor_m: float) -> b
 
 def _explained_enough(c: Candidate, noise_m: float) -> bool:
     """Not unexplained: the validation error within UNEXPLAINED_RMSE_OVER_NOISE x the noise."""
-    return c.val.rmse_m <= UNEXPLAINED_RMSE_OVER_NOISE * noise_m
+    return _within_unexplained_limit(c.val.rmse_m, noise_m)
+
+
+def _within_unexplained_limit(rmse_m: float, noise_m: float) -> bool:
+    return rmse_m <= UNEXPLAINED_RMSE_OVER_NOISE * noise_m
 
 
 def _explained(c: Candidate, noise_m: float) -> bool:
