@@ -12,6 +12,8 @@ calibrated error the cause removes, and the cause's fitted values.
         null_ls_b 101 piezo_hysteresis --from calibration
     PYTHONPATH=hil:bench .venv/bin/python bench/cause_under_laws.py \
         thermal_drift 100 thermal_drift --from both
+    PYTHONPATH=hil:bench .venv/bin/python bench/cause_under_laws.py \
+        null_ls_b 102 piezo_hysteresis --from calibration --first-stage-only
 
 The last line gives each of the cause's values' spread over the laws (largest over smallest
 magnitude; "signs differ" when they do): a physical effect's should not depend on the law.
@@ -36,7 +38,7 @@ from stickslip.diagnosis.screen import probe_points, probe_residual
 
 
 def fit_under(a, ds, train, val, noise, cal, law: str, origin: str):
-    """The cause fitted under law from origin's base parameters: (fit, first-stage cost)."""
+    """The cause fitted under law from origin's base parameters: (its model, first-stage cost)."""
     start = F.Model(ds.actuator, law=law) if origin == "nominal" else cal.model
     free = F.Free(cal.free.base, (a.cause,))
     grid = a.start == "grid"
@@ -49,8 +51,12 @@ def fit_under(a, ds, train, val, noise, cal, law: str, origin: str):
         start = replace(start, effects=replace(start.effects, **best))
     # the fit in its two stages (together fit(), bit for bit): the first stage's per-cycle
     # cost is what a choice of law before the second stage would see
+    if a.first_stage_only:
+        m, cost1 = F.first_stage_model(train, ds.actuator, start, free, noise, FIT_NFEV, grid)
+        return m, cost1
     theta, cost1 = F.first_stage(train, ds.actuator, start, free, noise, FIT_NFEV, grid=grid)
-    return F.fit_from(train, ds.actuator, start, free, noise, theta, FIT_NFEV), cost1
+    f = F.fit_from(train, ds.actuator, start, free, noise, theta, FIT_NFEV)
+    return f.model, cost1
 
 
 def spread(values: list[float]) -> str:
@@ -85,6 +91,12 @@ def main() -> int:
         "compliance on its first round), the law's calibration (as it fits the other causes), "
         "or both, keeping the fit with the smaller validation error",
     )
+    ap.add_argument(
+        "--first-stage-only",
+        action="store_true",
+        help="stop after the first stage, as the diagnosis' law-dependence guard does "
+        "(pipeline.LAW_SENSITIVE)",
+    )
     a = ap.parse_args()
     ds, train, val, noise = fit_inputs(a.case, a.seed, a.rate_hz, a.data)
     origins = ["nominal", "calibration"] if a.origin == "both" else [a.origin]
@@ -94,12 +106,12 @@ def main() -> int:
         ev_cal = F.evaluate(val, cal.model, noise)
         fits = []
         for origin in origins:
-            f, cost1 = fit_under(a, ds, train, val, noise, cal, law, origin)
-            fits.append((F.evaluate(val, f.model, noise), origin, f, cost1))
-        ev, origin, f, cost1 = min(fits, key=lambda x: x[0].mse_over_noise)
+            m, cost1 = fit_under(a, ds, train, val, noise, cal, law, origin)
+            fits.append((F.evaluate(val, m, noise), origin, m, cost1))
+        ev, origin, m, cost1 = min(fits, key=lambda x: x[0].mse_over_noise)
         values = {
             k.split(".", 1)[1]: float(f"{v:.4g}")
-            for k, v in f.values.items()
+            for k, v in m.values().items()
             if k.startswith(a.cause)
         }
         per_law[law] = values

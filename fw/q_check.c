@@ -10,9 +10,9 @@
 
 /* Slider position after two cycles at 2000 Hz, 100 V, rise 0.95, Table I q config (m at 2^-40);
  * the same under LuGre, and under LuGre with the effects below (test_q_bit_exact_reference). */
-#define SS_Q_CHECK_X_SLIDER 9386156LL
-#define SS_Q_CHECK_X_SLIDER_LUGRE 9146861LL
-#define SS_Q_CHECK_X_SLIDER_EFFECTS 7279828LL
+#define SS_Q_CHECK_X_SLIDER 9387071LL
+#define SS_Q_CHECK_X_SLIDER_LUGRE 9146832LL
+#define SS_Q_CHECK_X_SLIDER_EFFECTS 7279943LL
 
 /* The slider's position after the two cycles of `w` from rest under cfg; -1 if a call fails. */
 static int64_t two_cycles(const ss_actuator_config_q_t *cfg, const ss_waveform_config_q_t *w)

@@ -200,6 +200,8 @@ class ActuatorConfigQ(C.Structure):
         ("friction", FrictionConfigQ),
         ("inv_dt_q47", C.c_int32),
         ("effects", EffectsConfigQ),
+        ("contact_lag_q30", C.c_int32),
+        ("pad", C.c_int32),
     ]
 
 

@@ -33,6 +33,10 @@ typedef struct {
      * [2^16, 2^31). Where it sits, the effects (with an int64) start 8-byte aligned on every target */
     int32_t inv_dt_q47;
     ss_effects_config_q_t effects; /* load, slew limit, sensor scale; zeroed = off */
+    /* sigma0 dt^2 / (12 M_R), Q2.30 in [0, 2^31): the rod's compliance the kicks leave out, times
+     * the contact's largest stiffness (docs/model.md, "The rod seen through kicks") */
+    int32_t contact_lag_q30;
+    int32_t pad; /* zero; keeps the size a multiple of 8 on every target */
 } ss_actuator_config_q_t;
 
 typedef struct {

@@ -48,6 +48,14 @@ ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg, co
 ss_status_t ss_friction_config_check_named_f32(const ss_friction_config_f32_t *cfg, int prefixed,
                                                const char **bad_field);
 
+/* A force law's slopes at its state, for the actuator's implicit step (docs/model.md, "The
+ * integrator"): dF/dv, the damping the closing kick feeds back; dF/dx, the contact's tangent
+ * stiffness (0 in gross sliding), through which the rod's sampled compliance is corrected. */
+typedef struct {
+    float dfdv_ns_per_m;
+    float dfdx_n_per_m;
+} ss_friction_slopes_f32_t;
+
 /* Stribeck curve g(v) in N: Fs at rest, Fc in fast sliding. */
 float ss_stribeck_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s);
 

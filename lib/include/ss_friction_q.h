@@ -67,12 +67,27 @@ ss_status_t ss_friction_config_check_q(const ss_friction_config_q_t *cfg, const 
 ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, int prefixed,
                                              const char **bad_field);
 
+/* A force law's slopes at its state for the actuator's implicit step (ss_friction_slopes_f32_t):
+ * dF/dv in N s/m, Q16.16; dF/dx as a share of sigma0, Q2.30 in [0, 2^30 (1 + asymmetry)]. */
+typedef struct {
+    int32_t dfdv_q16;
+    int32_t dfdx_q30;
+} ss_friction_slopes_q_t;
+
 /* Stribeck curve g(v), N at 2^-24, for v in m/s at 2^-28. */
 int32_t ss_stribeck_q(const ss_friction_config_q_t *cfg, int32_t v_q28);
 
 /* The contact force (N at 2^-24) times 1 + asymmetry sgn(load): unchanged when the contact is
  * symmetric or unloaded (load 0). */
 int64_t ss_asymmetric_q(const ss_friction_config_q_t *cfg, int64_t force_q24, int64_t load);
+
+/* ss_asymmetric_q with its common case inline (a symmetric contact or no load: the value as it is),
+ * for the step, which asks three times per force. */
+static inline int64_t ss_asymmetric_inline_q(const ss_friction_config_q_t *cfg, int64_t force_q24,
+                                             int64_t load)
+{
+    return (cfg->asymmetry_q30 == 0 || load == 0) ? force_q24 : ss_asymmetric_q(cfg, force_q24, load);
+}
 
 /* Slope dg/dv, N s/m in Q16.16 (saturated). */
 int32_t ss_stribeck_slope_q(const ss_friction_config_q_t *cfg, int32_t v_q28);

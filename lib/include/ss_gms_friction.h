@@ -40,11 +40,12 @@ float ss_gms_step_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t *s
  * force. Non-finite input changes nothing. */
 void ss_gms_advance_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t *st, float dx_m, float dt_s);
 
-/* Force at the current state for a relative velocity v (N), and its slope dF/dv (N s/m, sigma2:
- * the elements do not depend on v) in *dfdv_ns_per_m when not NULL. step() ends with
+/* Force at the current state for a relative velocity v (N), and when slopes is not NULL its
+ * slopes dF/dv (N s/m, sigma2: the elements do not depend on v) and dF/dx (the sticking
+ * elements' stiffness, N/m). step() ends with
  * force_at(dx/dt); the actuator asks for the velocity at the end of its step. */
 float ss_gms_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_gms_state_f32_t *st, float v_m_per_s,
-                          float *dfdv_ns_per_m);
+                          ss_friction_slopes_f32_t *slopes);
 
 /* Apply n displacement increments dx_m[i] (each taken in dt_s) and write each force to force_n[i]. */
 ss_status_t ss_gms_run_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t *st, const float *dx_m,

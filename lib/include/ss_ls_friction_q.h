@@ -40,10 +40,10 @@ int32_t ss_ls_step_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
 void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int32_t dx_q40,
                      int32_t inv_dt_q47);
 
-/* Force at the current state for relative velocity v (m/s at 2^-28), N at 2^-24, and its slope
- * dF/dv (N s/m in Q16.16) in *dfdv_q16 when not NULL. */
+/* Force at the current state for relative velocity v (m/s at 2^-28), N at 2^-24, and when slopes
+ * is not NULL its slopes: dF/dv, and dF/dx = (level / Fs) kt over sigma0 (ss_ls_force_at_f32). */
 int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_t *st, int32_t v_q28,
-                         int32_t *dfdv_q16);
+                         ss_friction_slopes_q_t *slopes);
 
 /* n increments dx_q40[i], each in dt_q40; forces into force_q24[i]. */
 ss_status_t ss_ls_run_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, const int32_t *dx_q40,

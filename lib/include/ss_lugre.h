@@ -26,11 +26,12 @@ float ss_lugre_step_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_
 void ss_lugre_advance_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, float dx_m,
                           float dt_s);
 
-/* Force at the current state for a relative velocity v (N), and its slope dF/dv (N s/m) in
- * *dfdv_ns_per_m when not NULL. step() ends with force_at(dx/dt); the actuator asks for the
- * velocity at the end of its step instead (docs/model.md, integrator). */
+/* Force at the current state for a relative velocity v (N), and when slopes is not NULL its
+ * slopes dF/dv (N s/m) and dF/dx (sigma0 dz/dx of the bristle's relaxation at v, N/m). step() ends with
+ * force_at(dx/dt); the actuator asks for the velocity at the end of its step instead (docs/model.md,
+ * integrator). */
 float ss_lugre_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_lugre_state_f32_t *st,
-                            float v_m_per_s, float *dfdv_ns_per_m);
+                            float v_m_per_s, ss_friction_slopes_f32_t *slopes);
 
 /* Apply n displacement increments dx_m[i] (each taken in dt_s) and write each force to force_n[i]. */
 ss_status_t ss_lugre_run_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, const float *dx_m,

@@ -60,6 +60,7 @@ static const qformat_entry_t QFORMATS[] = {
     {"lag_q24", SS_QF_LAG},
     {"kick_rod_q40", SS_QF_KICK},
     {"kick_slider_q40", SS_QF_KICK},
+    {"contact_lag_q30", SS_QF_RATIO},
     {"phi_q28", SS_QF_FLOW},
     {"fs_q24", SS_QF_FORCE},
     {"fc_q24", SS_QF_FORCE},

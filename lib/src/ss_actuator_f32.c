@@ -119,12 +119,13 @@ static void rod_flow(const ss_actuator_config_f32_t *cfg, float dt, float phi[4]
 /* What a step carries from one phase to the next: step() runs the phases in turn, a batch
  * (ss_actuator_run_many_f32) runs each phase for several simulations before the next. */
 typedef struct {
-    float inv_mr;     /* 1 / rod mass */
-    float inv_mc;     /* 1 / slider mass */
-    float dx_rel;     /* the drift's relative displacement, rod minus slider */
-    float v_free;     /* relative velocity before the closing kick */
-    float kick_per_n; /* relative dv per newton of the closing kick */
-    float f0;         /* the friction the step began with */
+    float inv_mr;          /* 1 / rod mass */
+    float inv_mc;          /* 1 / slider mass */
+    float dx_rel;          /* the drift's relative displacement, rod minus slider */
+    float v_free;          /* relative velocity before the closing kick */
+    float kick_per_n;      /* relative dv per newton of the closing kick */
+    float rod_lag_m_per_n; /* dt^2 / 12 M_R: the rod's compliance the kicks leave out (step_finish) */
+    float f0;              /* the friction the step began with */
 } carry_t;
 
 /* What a batch's step carries besides (its address is taken: kept apart from carry_t, which a
@@ -173,15 +174,16 @@ SS_FORCE_INLINE void friction_advance(const ss_actuator_config_f32_t *cfg, ss_ac
 
 /* ... then its force at the velocity the step ends with, with the slope. */
 SS_FORCE_INLINE float friction_force(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
-                                     const ss_friction_config_f32_t *fr, const carry_t *c, float *dfdv)
+                                     const ss_friction_config_f32_t *fr, const carry_t *c,
+                                     ss_friction_slopes_f32_t *slopes)
 {
     if (cfg->friction_model == SS_FRICTION_LUGRE) {
-        return ss_lugre_force_at_f32(fr, &st->fr.lugre, c->v_free, dfdv);
+        return ss_lugre_force_at_f32(fr, &st->fr.lugre, c->v_free, slopes);
     }
     if (cfg->friction_model == SS_FRICTION_GMS) {
-        return ss_gms_force_at_f32(fr, &st->fr.gms, c->v_free, dfdv);
+        return ss_gms_force_at_f32(fr, &st->fr.gms, c->v_free, slopes);
     }
-    return ss_ls_force_at_f32(fr, &st->fr.ls, c->v_free, dfdv);
+    return ss_ls_force_at_f32(fr, &st->fr.ls, c->v_free, slopes);
 }
 
 /* A batch's step (ss_actuator_run_many_f32) in parts, the same operations: the step's friction and
@@ -215,12 +217,12 @@ SS_FORCE_INLINE void friction_end(const ss_actuator_config_f32_t *cfg, ss_actuat
 /* ... and the force: LuGre's with the part of it begun there, the others' whole. */
 SS_FORCE_INLINE float friction_force_parts(const ss_actuator_config_f32_t *cfg,
                                            const ss_actuator_state_f32_t *st, const carry_t *c,
-                                           const parts_t *p, float *dfdv)
+                                           const parts_t *p, ss_friction_slopes_f32_t *slopes)
 {
     if (cfg->friction_model == SS_FRICTION_LUGRE) {
-        return ss_lugre_force_end_f32(p->fr, &st->fr.lugre, c->v_free, &p->lugre_level, dfdv);
+        return ss_lugre_force_end_f32(p->fr, &st->fr.lugre, c->v_free, &p->lugre_level, slopes);
     }
-    return friction_force(cfg, st, p->fr, c, dfdv);
+    return friction_force(cfg, st, p->fr, c, slopes);
 }
 
 /* Force of the base spring-damper and of the piezo's reaction on the base (0 without a base). */
@@ -380,6 +382,7 @@ SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_a
     c->v_free = st->v_rod_m_per_s - st->v_slider_m_per_s -
                 cfg->effects.load_n * c->inv_mc * half; /* before the closing kick */
     c->kick_per_n = half * (c->inv_mr + c->inv_mc);     /* relative dv per newton */
+    c->rod_lag_m_per_n = (dt * dt * (1.0f / 12.0f)) * c->inv_mr;
     c->f0 = st->force_n;
     return SS_OK;
 }
@@ -387,9 +390,17 @@ SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_a
 /* A step's last phase, from the friction f_free at the velocity the step ends with before the
  * closing kick, and its slope dfdv: the force after the kick, the heat, the closing kick. */
 SS_FORCE_INLINE void step_finish(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
-                                 const carry_t *c, float f_free, float dfdv)
+                                 const carry_t *c, float f_free, const ss_friction_slopes_f32_t *slopes)
 {
-    const float denom = 1.0f + dfdv * c->kick_per_n;
+    /* The rod's response to the friction comes as kicks at the step's ends, which its exact flow
+     * between them turns into a sampled deflection (dt^2 / 12 M_R) / F short of the static F / k
+     * (1.6 % of it at 1 us: the 69 kHz rod mode is 0.43 rad a step). The contact sees the rod
+     * that much too stiff, and the slider's 4.2 kHz mode on it ran 3.9e-4 fast, 0.1 % a cycle of
+     * the paper's drive under LS, whose mode rings through the stick phase. Taking the force at
+     * the position the rod would have reached, x - F dt^2 / 12 M_R, and linearising in the
+     * contact's stiffness dF/dx, is the second term of the denominator (docs/model.md). */
+    const float denom =
+        1.0f + slopes->dfdv_ns_per_m * c->kick_per_n + slopes->dfdx_n_per_m * c->rod_lag_m_per_n;
     st->force_n = (denom > 0.1f) ? f_free / denom : f_free;
     if (cfg->effects.thermal_coeff_per_j != 0.0f) {
         /* heat: the work friction does on the relative motion, signed. The contact's elastic
@@ -417,9 +428,9 @@ static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f
     ss_friction_config_f32_t scaled;
     const ss_friction_config_f32_t *fr = friction_config(cfg, st, &scaled);
     friction_advance(cfg, st, fr, &c);
-    float dfdv = 0.0f;
-    const float f_free = friction_force(cfg, st, fr, &c, &dfdv);
-    step_finish(cfg, st, &c, f_free, dfdv);
+    ss_friction_slopes_f32_t slopes;
+    const float f_free = friction_force(cfg, st, fr, &c, &slopes);
+    step_finish(cfg, st, &c, f_free, &slopes);
     return SS_OK;
 }
 
@@ -678,10 +689,10 @@ ss_status_t ss_actuator_run_many_f32(ss_actuator_run_job_f32_t *jobs, uint32_t n
                     busy[k] = 0;
                 } else {
                     const ss_actuator_config_f32_t *cfg = lane[k].job->cfg;
-                    float dfdv = 0.0f;
+                    ss_friction_slopes_f32_t slopes;
                     const float f_free =
-                        friction_force_parts(cfg, lane[k].job->st, &carry[k], &parts[k], &dfdv);
-                    step_finish(cfg, lane[k].job->st, &carry[k], f_free, dfdv);
+                        friction_force_parts(cfg, lane[k].job->st, &carry[k], &parts[k], &slopes);
+                    step_finish(cfg, lane[k].job->st, &carry[k], f_free, &slopes);
                     busy[k] = lane_after_step(&lane[k]);
                 }
                 all = all && busy[k];

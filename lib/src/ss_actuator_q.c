@@ -24,6 +24,8 @@ ss_actuator_config_q_t ss_actuator_config_table1_q(void)
     cfg.phi_q28[3] = 242038569;
     cfg.friction = ss_friction_config_table1_q();
     cfg.effects = ss_effects_config_none_q();
+    cfg.contact_lag_q30 = 813441; /* 1e7 N/m x (1 us)^2 / (12 x 1.1 g) = 7.6e-4 */
+    cfg.pad = 0;
     return cfg;
 }
 
@@ -55,6 +57,8 @@ ss_status_t ss_actuator_config_check_q(const ss_actuator_config_q_t *cfg, const 
         *bad = "kick_rod_q40";
     } else if (cfg->kick_slider_q40 <= 0) {
         *bad = "kick_slider_q40";
+    } else if (cfg->contact_lag_q30 < 0) {
+        *bad = "contact_lag_q30";
     } else if (cfg->effects.load_q24 < -SS_Q_LOAD_MAX_Q24 || cfg->effects.load_q24 > SS_Q_LOAD_MAX_Q24) {
         *bad = "effects.load_q24";
     } else if (cfg->effects.slew_q24 < 0 || cfg->effects.slew_q24 > SS_Q_SLEW_MAX_Q24) {
@@ -251,18 +255,20 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
                                   ? 0
                                   : ss_shr_round((int64_t)cfg->effects.load_q24 * cfg->kick_slider_q40, 36);
     const int32_t v_free = ss_sat32((int64_t)st->v_rod_q28 - st->v_slider_q28 - load_kick);
-    int32_t dfdv = 0;
+    ss_friction_slopes_q_t slopes;
     int32_t f_free;
     if (cfg->friction_model == SS_FRICTION_Q_LUGRE) {
         ss_lugre_advance_q(&cfg->friction, &st->fr.lugre, dx_rel, cfg->inv_dt_q47);
-        f_free = ss_lugre_force_at_q(&cfg->friction, &st->fr.lugre, v_free, &dfdv);
+        f_free = ss_lugre_force_at_q(&cfg->friction, &st->fr.lugre, v_free, &slopes);
     } else {
         ss_ls_advance_q(&cfg->friction, &st->fr.ls, dx_rel, cfg->inv_dt_q47);
-        f_free = ss_ls_force_at_q(&cfg->friction, &st->fr.ls, v_free, &dfdv);
+        f_free = ss_ls_force_at_q(&cfg->friction, &st->fr.ls, v_free, &slopes);
     }
-    /* N s/m in Q16 times (m/s)/N at 2^-40 is 2^-56: to Q30 */
+    /* N s/m in Q16 times (m/s)/N at 2^-40 is 2^-56: to Q30; and the rod's compliance the kicks
+     * leave out, the contact's stiffness over sigma0 (Q30) times contact_lag_q30 (as the float) */
     const int64_t kicks = (int64_t)cfg->kick_rod_q40 + cfg->kick_slider_q40;
-    const int64_t denom = SS_Q30_ONE + ss_shr_round(dfdv * kicks, 26);
+    const int64_t denom = SS_Q30_ONE + ss_shr_round((int64_t)slopes.dfdv_q16 * kicks, 26) +
+                          ss_shr_round(ss_mul_s32_s64(slopes.dfdx_q30, cfg->contact_lag_q30), 30);
     if (denom > SS_ACT_Q_DENOM_MIN_Q30 && denom <= INT32_MAX) {
         /* F_free / denom by denom's reciprocal m 2^-sh: denom in (0.1 x 2^30, 2^31), sh in
          * [57, 61], F_free m / 2^(sh - 30) one product */

@@ -175,6 +175,15 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
         return SS_ERR_RANGE;
     }
     out->kick_slider_q40 = (int32_t)v;
+    /* beyond 2 the contact's mode on the rod is not resolved by the step at all */
+    if (!to_int((double)in->friction.sigma0_n_per_m * dt * dt / (12.0 * (double)in->rod_mass_kg) *
+                    SS_QF_ONE(SS_QF_RATIO),
+                0.0, i32max, &v)) {
+        *bad = "rod_mass_kg";
+        return SS_ERR_RANGE;
+    }
+    out->contact_lag_q30 = (int32_t)v;
+    out->pad = 0;
     double phi[4];
     rod_flow(k, c, (double)in->rod_mass_kg, dt, phi);
     const double scaled[4] = {phi[0], phi[1] / dt, phi[2] * dt, phi[3]};

@@ -32,7 +32,8 @@ typedef struct {
 void ss_lugre_force_begin_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s, int with_slope,
                               ss_lugre_level_f32_t *l);
 float ss_lugre_force_end_f32(const ss_friction_config_f32_t *cfg, const ss_lugre_state_f32_t *st,
-                             float v_m_per_s, const ss_lugre_level_f32_t *l, float *dfdv_ns_per_m);
+                             float v_m_per_s, const ss_lugre_level_f32_t *l,
+                             ss_friction_slopes_f32_t *slopes);
 
 /* LS's advance: the presliding element (reversals, Masing branch, break-away gate), then the
  * LuGre part's level in the gross slip. */

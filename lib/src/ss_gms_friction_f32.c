@@ -83,13 +83,21 @@ float ss_gms_step_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t *s
 }
 
 float ss_gms_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_gms_state_f32_t *st, float v_m_per_s,
-                          float *dfdv_ns_per_m)
+                          ss_friction_slopes_f32_t *slopes)
 {
-    if (dfdv_ns_per_m != NULL) {
-        *dfdv_ns_per_m = cfg->sigma2_ns_per_m;
-    }
     /* asymmetric friction scales the contact's elastic force, as in LS */
-    return ss_asymmetry_factor_f32(cfg, st->elastic_n) * st->elastic_n + cfg->sigma2_ns_per_m * v_m_per_s;
+    const float asym = ss_asymmetry_factor_f32(cfg, st->elastic_n);
+    if (slopes != NULL) {
+        slopes->dfdv_ns_per_m = cfg->sigma2_ns_per_m;
+        /* an element at its slip level takes no more load in the direction it slipped: the last
+         * motion's (none yet: every element sticks) */
+        int sticking = 0;
+        for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
+            sticking += (fabsf(st->f_n[i]) < share(i) * st->level_n) ? 1 : 0;
+        }
+        slopes->dfdx_n_per_m = asym * cfg->sigma0_n_per_m * ((float)sticking / (float)SS_GMS_ELEMENTS);
+    }
+    return asym * st->elastic_n + cfg->sigma2_ns_per_m * v_m_per_s;
 }
 
 ss_status_t ss_gms_run_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t *st, const float *dx_m,

@@ -208,7 +208,7 @@ float ss_ls_step_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st,
 }
 
 float ss_ls_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_ls_state_f32_t *st, float v_m_per_s,
-                         float *dfdv_ns_per_m)
+                         ss_friction_slopes_f32_t *slopes)
 {
     /* gross-slip velocity: the share of v the presliding element does not take up elastically */
     const float gate = gate_of(cfg, st);
@@ -217,16 +217,16 @@ float ss_ls_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_ls_state_
     const float share = (gate == 0.0f) ? 0.0f : (1.0f - st->kt_n_per_m / cfg->sigma0_n_per_m) * gate;
     const float vp = v_m_per_s * share;
     float slope = 0.0f;
-    const float g =
-        (dfdv_ns_per_m != NULL) ? ss_stribeck_with_slope_f32(cfg, vp, &slope) : ss_stribeck_f32(cfg, vp);
+    const float g = (slopes != NULL) ? ss_stribeck_with_slope_f32(cfg, vp, &slope) : ss_stribeck_f32(cfg, vp);
     const float zdot = vp * (1.0f - st->level_n / g); /* LuGre's dz/dt once sliding, sigma0 z = s */
     const float asym = ss_asymmetry_factor_f32(cfg, st->fm_n);
-    if (dfdv_ns_per_m != NULL) {
+    const float level_share = st->level_n / cfg->fs_n;
+    if (slopes != NULL) {
         const float dzdvp = (1.0f - st->level_n / g) + vp * st->level_n * slope / (g * g);
-        *dfdv_ns_per_m = asym * cfg->sigma1_ns_per_m * share * dzdvp + cfg->sigma2_ns_per_m;
+        slopes->dfdv_ns_per_m = asym * cfg->sigma1_ns_per_m * share * dzdvp + cfg->sigma2_ns_per_m;
+        slopes->dfdx_n_per_m = asym * level_share * st->kt_n_per_m; /* the Masing branch's */
     }
-    return asym * ((st->level_n / cfg->fs_n) * st->fm_n + cfg->sigma1_ns_per_m * zdot) +
-           cfg->sigma2_ns_per_m * v_m_per_s;
+    return asym * (level_share * st->fm_n + cfg->sigma1_ns_per_m * zdot) + cfg->sigma2_ns_per_m * v_m_per_s;
 }
 
 ss_status_t ss_ls_run_f32(const ss_friction_config_f32_t *cfg, ss_ls_state_f32_t *st, const float *dx_m,

@@ -184,8 +184,9 @@ int32_t ss_ls_step_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
 }
 
 int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_t *st, int32_t v_q28,
-                         int32_t *dfdv_q16)
+                         ss_friction_slopes_q_t *slopes)
 {
+    int32_t *dfdv_q16 = (slopes != NULL) ? &slopes->dfdv_q16 : NULL;
     /* gross-slip share of v: (1 - kt/sigma0) alpha, Q30 */
     const int64_t share = ss_shr_round(
         ss_mul_i64_i32(SS_Q30_ONE - (int64_t)st->kt_q30, (int32_t)breakaway_gate_q30(cfg, st->fm_q24)), 30);
@@ -218,15 +219,19 @@ int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_
             damping = ss_shr_round(ss_mul_i64(s1, dzdvp), 30);
         }
     }
-    if (dfdv_q16 != NULL) {
-        *dfdv_q16 = ss_sat32(ss_asymmetric_q(cfg, damping, st->fm_q24) + cfg->sigma2_q16);
+    /* s / Fs in Q30 (level <= Fs: at most 2^30), once for the force and the stiffness */
+    const int32_t level_share = (int32_t)ss_shr_round(ss_mul_s32_s64(st->level_q24, cfg->inv_fs_q48), 18);
+    if (slopes != NULL) {
+        slopes->dfdv_q16 = ss_sat32(ss_asymmetric_inline_q(cfg, damping, st->fm_q24) + cfg->sigma2_q16);
+        /* the contact's stiffness over sigma0: (s / Fs) kt / sigma0, Q30 */
+        slopes->dfdx_q30 = ss_sat32(ss_asymmetric_inline_q(
+            cfg, ss_shr_round(ss_mul_s32_s64(level_share, st->kt_q30), 30), st->fm_q24));
     }
     /* (s / Fs) F_M + sigma1 dz/dt (the contact, asymmetric by the sign of F_M) + sigma2 v; Q16 N s/m
      * times 2^-28 m/s is N at 2^-44 */
-    const int64_t contact =
-        ss_mul_shr_round_wide(ss_mul_s32_s64(st->level_q24, st->fm_q24), cfg->inv_fs_q48, 48) +
-        ss_shr_round(ss_mul_i64_i32(zdot, cfg->sigma1_q16), 20);
-    return ss_sat32(ss_asymmetric_q(cfg, contact, st->fm_q24) +
+    const int64_t contact = ss_shr_round(ss_mul_s32_s64(level_share, st->fm_q24), 30) +
+                            ss_shr_round(ss_mul_i64_i32(zdot, cfg->sigma1_q16), 20);
+    return ss_sat32(ss_asymmetric_inline_q(cfg, contact, st->fm_q24) +
                     ss_shr_round(ss_mul_s32_s64(cfg->sigma2_q16, v_q28), 20));
 }
 

@@ -57,7 +57,8 @@ SS_FORCE_INLINE void force_begin(const ss_friction_config_f32_t *cfg, float v_m_
 }
 
 SS_FORCE_INLINE float force_end(const ss_friction_config_f32_t *cfg, const ss_lugre_state_f32_t *st,
-                                float v_m_per_s, const ss_lugre_level_f32_t *l, float *dfdv_ns_per_m)
+                                float v_m_per_s, const ss_lugre_level_f32_t *l,
+                                ss_friction_slopes_f32_t *slopes)
 {
     const float v = v_m_per_s;
     const float slope = l->slope_ns_per_m;
@@ -65,10 +66,14 @@ SS_FORCE_INLINE float force_end(const ss_friction_config_f32_t *cfg, const ss_lu
     const float k = cfg->sigma0_n_per_m * st->z_m / g; /* sigma0 z / g */
     const float zdot = v - fabsf(v) * k;
     const float asym = ss_asymmetry_factor_f32(cfg, st->z_m);
-    if (dfdv_ns_per_m != NULL) {
+    if (slopes != NULL) {
         /* d(dz/dt)/dv = 1 - sgn(v) sigma0 z / g + |v| sigma0 z g' / g^2 */
         const float dzdv = 1.0f - ss_sign_f32(v) * k + fabsf(v) * k * slope / g;
-        *dfdv_ns_per_m = asym * cfg->sigma1_ns_per_m * dzdv + cfg->sigma2_ns_per_m;
+        slopes->dfdv_ns_per_m = asym * cfg->sigma1_ns_per_m * dzdv + cfg->sigma2_ns_per_m;
+        /* the relaxation's dz/dx = 1 - sgn(v) sigma0 z / g: sigma0 at rest, 0 in steady sliding
+         * (and below 0 nowhere but in rounding) */
+        const float dzdx = 1.0f - ss_sign_f32(v) * k;
+        slopes->dfdx_n_per_m = (dzdx > 0.0f) ? asym * cfg->sigma0_n_per_m * dzdx : 0.0f; /* no libm fmaxf */
     }
     return asym * (cfg->sigma0_n_per_m * st->z_m + cfg->sigma1_ns_per_m * zdot) + cfg->sigma2_ns_per_m * v;
 }
@@ -94,11 +99,11 @@ float ss_lugre_step_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_
 }
 
 float ss_lugre_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_lugre_state_f32_t *st,
-                            float v_m_per_s, float *dfdv_ns_per_m)
+                            float v_m_per_s, ss_friction_slopes_f32_t *slopes)
 {
     ss_lugre_level_f32_t l;
-    force_begin(cfg, v_m_per_s, dfdv_ns_per_m != NULL, &l);
-    return force_end(cfg, st, v_m_per_s, &l, dfdv_ns_per_m);
+    force_begin(cfg, v_m_per_s, slopes != NULL, &l);
+    return force_end(cfg, st, v_m_per_s, &l, slopes);
 }
 
 void ss_lugre_advance_begin_f32(const ss_friction_config_f32_t *cfg, float dx_m, float dt_s,
@@ -120,9 +125,9 @@ void ss_lugre_force_begin_f32(const ss_friction_config_f32_t *cfg, float v_m_per
 }
 
 float ss_lugre_force_end_f32(const ss_friction_config_f32_t *cfg, const ss_lugre_state_f32_t *st,
-                             float v_m_per_s, const ss_lugre_level_f32_t *l, float *dfdv_ns_per_m)
+                             float v_m_per_s, const ss_lugre_level_f32_t *l, ss_friction_slopes_f32_t *slopes)
 {
-    return force_end(cfg, st, v_m_per_s, l, dfdv_ns_per_m);
+    return force_end(cfg, st, v_m_per_s, l, slopes);
 }
 
 ss_status_t ss_lugre_run_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, const float *dx_m,

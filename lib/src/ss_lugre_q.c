@@ -32,11 +32,12 @@ static int64_t bristle_ratio_q30(int64_t sz, int32_t m, int sh)
     return (sz < 0) ? -k : k;
 }
 
-/* The force at slip velocity v (and dF/dv when dfdv_q16 is not NULL), and dz/dt there: one
+/* The force at slip velocity v (and its slopes when slopes is not NULL), and dz/dt there: one
  * Stribeck level, one reciprocal of it, one bristle force for all of them. */
 static int32_t force_at(const ss_friction_config_q_t *cfg, const ss_lugre_state_q_t *st, int32_t v_q28,
-                        int32_t *dfdv_q16, int64_t *zdot_q28)
+                        ss_friction_slopes_q_t *slopes, int64_t *zdot_q28)
 {
+    int32_t *dfdv_q16 = (slopes != NULL) ? &slopes->dfdv_q16 : NULL;
     const int64_t v = v_q28;
     int32_t slope = 0;
     const int64_t g =
@@ -56,12 +57,15 @@ static int32_t force_at(const ss_friction_config_q_t *cfg, const ss_lugre_state_
             ss_mul_recip_q(ss_sat32(ss_shr_round(ss_mul_i64_i32(ss_abs64(v), slope), 20)), m, sh - 20);
         const int64_t dzdv = SS_Q30_ONE - ss_sign32(v) * k + ss_shr_round(ss_mul_i64(k, vg), 20);
         *dfdv_q16 = ss_sat32(
-            ss_asymmetric_q(cfg, ss_shr_round(ss_mul_i64_i32(dzdv, cfg->sigma1_q16), 30), st->z_q40) +
+            ss_asymmetric_inline_q(cfg, ss_shr_round(ss_mul_i64_i32(dzdv, cfg->sigma1_q16), 30), st->z_q40) +
             cfg->sigma2_q16);
+        /* the relaxation's dz/dx = 1 - sgn(v) sigma0 z / g, Q30, none below 0 */
+        const int64_t dzdx = SS_Q30_ONE - ss_sign32(v) * k;
+        slopes->dfdx_q30 = (dzdx > 0) ? ss_sat32(ss_asymmetric_inline_q(cfg, dzdx, st->z_q40)) : 0;
     }
     *zdot_q28 = zdot;
     const int64_t contact = ss_shr_round(sz, 16) + ss_shr_round(ss_mul_i64_i32(zdot, cfg->sigma1_q16), 20);
-    return ss_sat32(ss_asymmetric_q(cfg, contact, st->z_q40) +
+    return ss_sat32(ss_asymmetric_inline_q(cfg, contact, st->z_q40) +
                     ss_shr_round(ss_mul_s32_s64(cfg->sigma2_q16, v_q28), 20));
 }
 
@@ -100,10 +104,10 @@ int32_t ss_lugre_step_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *s
 }
 
 int32_t ss_lugre_force_at_q(const ss_friction_config_q_t *cfg, const ss_lugre_state_q_t *st, int32_t v_q28,
-                            int32_t *dfdv_q16)
+                            ss_friction_slopes_q_t *slopes)
 {
     int64_t zdot = 0;
-    return force_at(cfg, st, v_q28, dfdv_q16, &zdot);
+    return force_at(cfg, st, v_q28, slopes, &zdot);
 }
 
 ss_status_t ss_lugre_run_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, const int32_t *dx_q40,

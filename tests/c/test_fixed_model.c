@@ -778,8 +778,9 @@ static void test_q_bit_exact_reference(void **unused)
     assert_int_equal(ss_waveform_init_q(&w, cfg.dt_q40, &ws), SS_OK);
     assert_int_equal(ss_actuator_init_q(&cfg, &st, ss_waveform_value_q(&w, &ws)), SS_OK);
     assert_int_equal(ss_actuator_run_q(&cfg, &st, &w, &ws, 1000u, 250u, NULL, &rows), SS_OK);
-    /* SS_Q_CHECK_X_SLIDER in q_check.c: 8.54 um (9386164 while the step divided by Fs: 7 fm) */
-    assert_true(st.x_slider_q40 == 9386156);
+    /* SS_Q_CHECK_X_SLIDER in q_check.c: 8.54 um (9386164 while the step divided by Fs: 7 fm;
+     * 9386156 before the rod's compliance was taken up in the contact's force) */
+    assert_true(st.x_slider_q40 == 9387071);
     /* the same drive under LuGre, and under LuGre with a load, a slew limit, a hysteresis and a base
      * (q_check.c's effects): SS_Q_CHECK_X_SLIDER_LUGRE and SS_Q_CHECK_X_SLIDER_EFFECTS */
     ss_actuator_config_q_t lg = cfg;
@@ -787,13 +788,13 @@ static void test_q_bit_exact_reference(void **unused)
     assert_int_equal(ss_waveform_init_q(&w, lg.dt_q40, &ws), SS_OK);
     assert_int_equal(ss_actuator_init_q(&lg, &st, ss_waveform_value_q(&w, &ws)), SS_OK);
     assert_int_equal(ss_actuator_run_q(&lg, &st, &w, &ws, 1000u, 250u, NULL, &rows), SS_OK);
-    assert_true(st.x_slider_q40 == 9146861); /* 8.32 um */
+    assert_true(st.x_slider_q40 == 9146832); /* 8.32 um (9146861 before the rod's compliance) */
     ss_actuator_config_q_t fx = lg;
     q_check_effects(&fx);
     assert_int_equal(ss_waveform_init_q(&w, fx.dt_q40, &ws), SS_OK);
     assert_int_equal(ss_actuator_init_q(&fx, &st, ss_waveform_value_q(&w, &ws)), SS_OK);
     assert_int_equal(ss_actuator_run_q(&fx, &st, &w, &ws, 1000u, 250u, NULL, &rows), SS_OK);
-    assert_true(st.x_slider_q40 == 7279828); /* 6.62 um */
+    assert_true(st.x_slider_q40 == 7279943); /* 6.62 um (7279828 before the rod's compliance) */
 }
 
 static void test_q_abi_sizes(void **unused)

@@ -76,10 +76,22 @@ static void test_gms_api(void **unused)
     const float bad[1] = {NAN};
     assert_int_equal(ss_gms_run_f32(&c, &a, bad, 1, 1e-6f, f_run), SS_ERR_NONFINITE);
     assert_int_equal(ss_abi_sizeof(SS_ABI_GMS_STATE_F32), sizeof(ss_gms_state_f32_t));
-    /* the slope for the actuator's implicit damping: sigma2, the elements do not depend on v */
-    float dfdv = 0.0f;
-    ss_gms_force_at_f32(&c, &a, 1e-3f, &dfdv);
-    assert_true(dfdv == c.sigma2_ns_per_m);
+    /* the slopes for the actuator's implicit step: dF/dv is sigma2 (the elements do not depend on
+     * v); dF/dx the sticking elements' stiffness: sigma0 at rest and after a reversal, 0 once
+     * every element slips */
+    ss_friction_slopes_f32_t slopes;
+    ss_gms_force_at_f32(&c, &a, 1e-3f, &slopes);
+    assert_true(slopes.dfdv_ns_per_m == c.sigma2_ns_per_m);
+    ss_gms_state_f32_t s;
+    assert_int_equal(ss_gms_init_f32(&c, &s), SS_OK);
+    ss_gms_force_at_f32(&c, &s, 0.0f, &slopes);
+    assert_true(slopes.dfdx_n_per_m == c.sigma0_n_per_m);
+    ss_gms_step_f32(&c, &s, 2e-6f, 1e-6f); /* 2 um: past the last element's 0.25 um */
+    ss_gms_force_at_f32(&c, &s, 1.0f, &slopes);
+    assert_true(slopes.dfdx_n_per_m == 0.0f);
+    ss_gms_step_f32(&c, &s, -1e-9f, 1e-6f); /* reversed: every element sticks again */
+    ss_gms_force_at_f32(&c, &s, -1e-3f, &slopes);
+    assert_true(slopes.dfdx_n_per_m == c.sigma0_n_per_m);
 }
 
 /* First loading follows the piecewise-linear curve to float32 rounding, at any step size: the

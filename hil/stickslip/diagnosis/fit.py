@@ -706,6 +706,23 @@ def first_stage(
 
 
 @with_one_blas_thread
+def first_stage_model(
+    runs: list[FitRun],
+    nominal: ActuatorParams,
+    start: Model,
+    free: Free,
+    noise_m: float,
+    max_nfev: int = 30,
+    grid: bool = True,
+) -> tuple[Model, float]:
+    """first_stage()'s point as a model, and its per-cycle cost: the fitted values near their
+    optimum for the price of the first stage (where their size, not the last digit, is read)."""
+    p = _Problem(runs, nominal, start, free, noise_m)
+    theta, cost = p.first_stage(max_nfev, grid)
+    return p.model(theta), cost
+
+
+@with_one_blas_thread
 def per_cycle_cost(
     runs: list[FitRun], nominal: ActuatorParams, model: Model, free: Free, noise_m: float
 ) -> float:

@@ -37,6 +37,7 @@ from .fit import (
     evaluate,
     filter_noise_gain,
     first_stage,
+    first_stage_model,
     fit,
     fit_from,
     per_cycle_cost,
@@ -105,6 +106,16 @@ MAX_EXTRA_BATCHES = 1  # ... and once more, the next TOP_FIT, when every one of 
 # and removed 99.9-100 % once fitted; on the independent generator no second cause survived to an
 # answer, and those fits were half of the slowest diagnoses (hysteresis 101-103: 30-35 s of 64-80).
 SCREEN_SHARE_OF_NEED = 0.5
+# A cause whose signature the friction law's own presliding form can make: a piezo's hysteresis is
+# a rate-independent loop between drive and position, and so is the contact's presliding under a
+# Maxwell-slip law. Named first in a model that stays unexplained (the law misfits the data), it
+# must come out the same size under every calibrated law, within LAW_SPREAD_MAX x (a property of
+# the piezo does not depend on the law the contact is read with). Measured as the guard fits it
+# (first stage, from each law's calibration): on clean LS-b data (independent seeds 100-102) alpha
+# spread 34-350 x over LS, LuGre and GMS, a true hysteresis (seeds 101-103) 1.09-1.20 x
+# (docs/diagnosis.md, step 8).
+LAW_SENSITIVE = {"piezo_hysteresis": "hysteresis_alpha"}
+LAW_SPREAD_MAX = 2.0
 BEAM_WIDTH = 2
 BEAM_SHARE = 0.5
 BEAM_RMSE_RATIO = 3.0
@@ -683,6 +694,43 @@ class _Session:
         problem = position_floor_problem(cause, moved, self.travel_m)
         return [problem] if problem else []
 
+    def under_other_law(self, cand: Candidate, parent: Candidate) -> Candidate | None:
+        """A first cause that carries the share a kept cause needs (UNEXPLAINED_FINAL_SHARE) and
+        failed only on the run families left out, fitted again from each other law's calibration
+        (from its own fitted values): the best of those, if it beats its law's calibration, to be
+        judged there. Under a law that misfits the data the base's error differs from family to
+        family, and a cause that is there absorbs some of it and stops carrying over (independent
+        load seed 101: 88 % of the LS calibration's error, 4.4 x worse on the 1 000 Hz runs left
+        out; the load is found under LuGre, the data's law). None when that does not apply."""
+        v = cand.verdict
+        if (
+            parent.causes
+            or v is None
+            or not v.folds  # the cross-validation ran: range and share held
+            or v.share < UNEXPLAINED_FINAL_SHARE
+            or len(cand.causes) != 1
+        ):
+            return None
+        (cause,) = cand.causes
+        values = {p.name: getattr(cand.fit.model.effects, p.name) for p in CAUSE_PARAMS[cause]}
+        others = [c for law, c in self.calibrated.items() if law != cand.law]
+        if not others:
+            return None
+        self.say(
+            f"{cause} under {', '.join(c.law for c in others)}: fitted from their calibrations"
+        )
+        futs = [
+            self.submit_fit(
+                replace(c.fit.model, effects=replace(c.fit.model.effects, **values)),
+                Free(self.free_base[c.law], (cause,)),
+                grid=False,
+            )
+            for c in others
+        ]
+        alts = [(self.cand(*_fv(fu), parent=c), c) for c, fu in zip(others, futs)]
+        best, cal = min(alts, key=lambda a: a[0].score)
+        return best if self.better(best, cal) else None
+
     def without_absent(self, cand: Candidate, parent: Candidate) -> Candidate | None:
         """cand failed its guards only on causes it took from parent whose fitted values say
         they are not there (outside their range, at a bound, under the position floor): its new
@@ -690,16 +738,20 @@ class _Session:
         screens below causes that are not there is reached only on top of them (an asymmetry,
         independent seed 104, came as three pairs at 5-9 nm: on a hysteresis below its range, a
         creep at its bound, a gradient under the floor), and each pair fails for the other cause.
+        Also when what is not there is cand's new cause: the pair's fit may have carried parent's
+        own causes to a better point than parent's fit reached, and they are refitted alone from
+        there (our own generator's slew limit, seed 7, on the core with the rod's compliance: the
+        slew alone stopped at 136 nm, 1.36 V/us; beside a hysteresis that came out at its bound,
+        1.271 V/us, the truth, and 2.0 nm, the noise).
         None when that does not apply, or when the same causes were refitted so already."""
         v, gp = cand.verdict, parent.parent
-        if (
-            v is None
-            or gp is None
-            or not v.absent
-            or v.share < FWD_SHARE
-            # each absent cause came from parent, not from further up (so none is cand's new one)
-            or any(c not in parent.causes or c in gp.causes for c in v.absent)
-        ):
+        if v is None or gp is None or not v.absent or v.share < FWD_SHARE:
+            return None
+        # each absent cause came from parent, not from further up (so none is cand's new one) ...
+        from_parent = all(c in parent.causes and c not in gp.causes for c in v.absent)
+        # ... or each is new, and parent's causes remain
+        only_new = bool(parent.causes) and all(c not in parent.causes for c in v.absent)
+        if not (from_parent or only_new):
             return None
         keep = tuple(c for c in cand.causes if c not in v.absent)
         if (cand.law, frozenset(keep)) in self.refitted_alone:
@@ -877,6 +929,16 @@ def _select(s: _Session, base: Candidate, singles: list[Candidate]):
                 if refined is not None:
                     accepted = cand
                     break
+            else:
+                alt = s.under_other_law(cand, parent)
+                if alt is not None:
+                    alt.verdict = s.judged(alt, s.calibrated[alt.law])
+                    rounds[0].append(alt)
+                    if alt.verdict.confirmed:
+                        refined = _refined(s, alt, chosen)
+                        if refined is not None:
+                            accepted = alt
+                            break
             alone = s.without_absent(cand, parent)
             gp = parent.parent
             if (
@@ -975,7 +1037,9 @@ def _refined(s: _Session, accepted: Candidate, chosen: Candidate) -> Candidate |
         # held 84 % against the calibrations held 8 % against that refit, dropped after 60 s of
         # rounds built on it: it had only moved the fit out of the calibration's stopping point)
         for cause in refined.causes:
-            weakness = _final_weakness(s, refined, cause, explained=False)[0]
+            weakness = _final_weakness(s, refined, cause, explained=False)[0] or _law_dependence(
+                s, refined, cause
+            )
             if weakness:
                 break
         if not weakness:
@@ -989,6 +1053,42 @@ def _refined(s: _Session, accepted: Candidate, chosen: Candidate) -> Candidate |
         f"{100 * UNEXPLAINED_FINAL_SHARE:.0f} %)"
     )
     return None
+
+
+def _law_dependence(s: _Session, chosen: Candidate, cause: str) -> str:
+    """Why a LAW_SENSITIVE cause of chosen reads as the law's misfit rather than the actuator's
+    property ("" when it does not): fitted from each other law's calibration (the first stage,
+    from the catalog's start and grid), its size differs more than LAW_SPREAD_MAX x from law to
+    law."""
+    name = LAW_SENSITIVE.get(cause)
+    others = [c for law, c in s.calibrated.items() if law != chosen.law]
+    if name is None or not others:
+        return ""
+    s.say(f"fitting {cause} under {', '.join(c.law for c in others)}: the same size under each?")
+    futs = [
+        s.ex.submit(
+            first_stage_model,
+            s.train,
+            s.nominal,
+            c.fit.model,
+            Free(s.free_base[c.law], (cause,)),
+            s.noise_m,
+            FIT_NFEV,
+        )
+        for c in others
+    ]
+    sizes = {chosen.law: chosen.fit.values[f"{cause}.{name}"]}
+    for c, fu in zip(others, futs):
+        sizes[c.law] = fu.result()[0].values()[f"{cause}.{name}"]
+    each = ", ".join(f"{v:.3g} under {law}" for law, v in sizes.items())
+    s.say(f"{cause}'s {name}: {each}")
+    mags = [abs(v) for v in sizes.values()]
+    if min(mags) * LAW_SPREAD_MAX >= max(mags):
+        return ""
+    return (
+        f"its size depends on the friction law it is read with ({name} {each}; a property of the "
+        f"actuator may differ at most {LAW_SPREAD_MAX:g} x): the law's misfit, not the cause"
+    )
 
 
 def _final_weakness(
