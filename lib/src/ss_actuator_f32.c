@@ -388,7 +388,8 @@ SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_a
 }
 
 /* A step's last phase, from the friction f_free at the velocity the step ends with before the
- * closing kick, and its slope dfdv: the force after the kick, the heat, the closing kick. */
+ * closing kick, and its slopes (dF/dv, dF/dx): the force after the kick, the heat, the closing
+ * kick. */
 SS_FORCE_INLINE void step_finish(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
                                  const carry_t *c, float f_free, const ss_friction_slopes_f32_t *slopes)
 {
@@ -398,7 +399,7 @@ SS_FORCE_INLINE void step_finish(const ss_actuator_config_f32_t *cfg, ss_actuato
      * that much too stiff, and the slider's 4.2 kHz mode on it ran 3.9e-4 fast, 0.1 % a cycle of
      * the paper's drive under LS, whose mode rings through the stick phase. Taking the force at
      * the position the rod would have reached, x - F dt^2 / 12 M_R, and linearising in the
-     * contact's stiffness dF/dx, is the second term of the denominator (docs/model.md). */
+     * contact's stiffness dF/dx, is the denominator's last term (docs/model.md). */
     const float denom =
         1.0f + slopes->dfdv_ns_per_m * c->kick_per_n + slopes->dfdx_n_per_m * c->rod_lag_m_per_n;
     st->force_n = (denom > 0.1f) ? f_free / denom : f_free;
