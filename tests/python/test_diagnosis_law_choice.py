@@ -5,6 +5,7 @@ chosen again (pipeline._fit_under_best_law, _law_chosen_with_it; screen's per-la
 from __future__ import annotations
 
 from concurrent.futures import Future
+from dataclasses import replace
 
 import numpy as np
 
@@ -250,3 +251,35 @@ def test_a_strong_first_cause_that_fails_only_the_left_out_families_is_judged_un
     # no other law fits it better than that law's own calibration
     rmse.update(lugre=250e-9, gms=300e-9)
     assert s.under_other_law(cand, cal["ls"]) is None
+
+
+def test_first_causes_are_fitted_from_nominal_when_the_calibration_predicts_worse_than_it():
+    # own load + hysteresis 102: the calibrations predicted the left-out runs at 2.05-2.71 um,
+    # nominal at 1.83 um; the load fitted on them stopped at 1.2 um, from nominal at 167 nm
+    load = Screened("external_load", {"load_n": 0.2}, 1.0, 10, 2.0, 1.0)
+    for bent in (False, True):
+        s, ex, base = _session()
+        s.calibration_bent = bent
+        s.pending[id(base)] = (base, [load])
+        s.fit_pending(base)
+        [(fn, args)] = ex.jobs
+        if not bent:  # on the calibrated model, under its law
+            assert fn is PL._fit_and_validate
+            assert args[3].params == BENT and args[3].law == "lugre"
+            continue
+        assert fn is PL._fit_under_best_law
+        starts = args[3]
+        assert [m.law for m, _, _ in starts] == list(LAWS)
+        for m, free, grid in starts:
+            assert m.params == NOMINAL and grid  # no probe at nominal: the cause's grid
+            assert free == Free(("normal_force_n", f"{m.law}_only"), ("external_load",))
+    # a further cause is fitted on its parent as before: the rule is for the first round only
+    s, ex, base = _session()
+    s.calibration_bent = True
+    m = replace(base.fit.model, causes=("piezo_hysteresis",))
+    fit = FitResult(Free((), m.causes), m, m.values(), 0.0, 0)
+    child = Candidate(fit, base.val, 0.0, parent=base)
+    s.pending[id(child)] = (child, [load])
+    s.fit_pending(child)
+    [(fn, _)] = ex.jobs
+    assert fn is PL._fit_and_validate
