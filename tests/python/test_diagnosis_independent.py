@@ -8,8 +8,11 @@ the issue's 13-run design at 250 kS/s, diagnosed blind.
   may come first: the contact is LuGre's, not LS's), with its strength recovered;
 - an effect outside the catalog is unexplained and names no catalog effect.
 
-CI runs these cases with one seed each; bench/diagnosis_bench.py --generator independent runs
-every case, clean GMS and LuGre contacts included, over many seeds (BENCHMARKS.md)."""
+CI (scripts/test.sh, pytest -m "not full") runs clean LS-b, the slew limit, the load and the
+periodic sensor error, one seed each: 4.6 of the 11.4 minutes all of them took under coverage on 2
+cores. The sensor scale, hysteresis, thermal drift, base compliance and weak cubic sensor error are
+marked full (`pytest -m full`); bench/diagnosis_cost.py --generator independent runs every case,
+clean GMS and LuGre contacts included, over 5 seeds (BENCHMARKS.md)."""
 
 from __future__ import annotations
 
@@ -82,6 +85,7 @@ def test_external_load_is_named_first(tmp_path, executor):
     assert got == pytest.approx(truth["effects"]["external_load"]["load_n"], rel=0.1)
 
 
+@pytest.mark.full
 def test_sensor_scale_error_is_named_first(tmp_path, executor):
     # the calibrated LuGre law takes a -4.4 % scale as a stronger contact (66 nm left); the
     # screen on that bent model credited the scale with 4 % of the error and it was never
@@ -102,6 +106,7 @@ def test_sensor_error_outside_the_catalog_is_unexplained(tmp_path, executor):
     assert [c for c in j["causes"] if c not in NOT_EFFECTS] == [], j["causes"]
 
 
+@pytest.mark.full
 def test_piezo_hysteresis_is_named_first(tmp_path, executor):
     # a Prandtl-Ishlinskii stack, not our Bouc-Wen: found only since both keep the nominal
     # stroke over the 100 V loop (model.major_loop_gain; it was missed at 600 nm RMS before)
@@ -111,6 +116,7 @@ def test_piezo_hysteresis_is_named_first(tmp_path, executor):
     assert j["gain"] > 0.5
 
 
+@pytest.mark.full
 def test_thermal_drift_is_named_first(tmp_path, executor):
     # the generator's runs follow one another and the contact stays warm from one to the next
     # (50 V starts at its hottest); with every run started cold the fit predicted the 50 V and
@@ -131,6 +137,7 @@ def test_thermal_drift_is_named_first(tmp_path, executor):
     assert p["thermal_drift.thermal_tau_s"] == pytest.approx(th["tau_s"], rel=0.1)
 
 
+@pytest.mark.full
 def test_base_compliance_is_named_first_with_its_resonance(tmp_path, executor):
     # the calibration mimics a missing base by the piezo damping (42 kg/s against 6.2) and a
     # halved contact stiffness; fitted on top of that the base stopped at 261 nm and was missed
@@ -152,6 +159,7 @@ def test_base_compliance_is_named_first_with_its_resonance(tmp_path, executor):
     assert p["piezo_damping_kg_per_s"] == pytest.approx(6.2, rel=0.2)
 
 
+@pytest.mark.full
 def test_weak_sensor_error_the_law_absorbs_names_no_effect(tmp_path, executor):
     # a cubic sensor nonlinearity (outside the catalog): the calibrated LuGre law leaves 2.6 x
     # the noise, where a thermal drift and a position-dependent friction each explained most of
