@@ -22,9 +22,13 @@ int main(void)
 {
     const ss_port_link_t *link = ss_cortex_m_init();
     static const char *const names[2] = {"ls", "lugre"};
+    /* each law at the longest step at which it holds issue 17's 0.1 % a cycle over the drive matrix
+     * (bench/step_study.py, docs/model.md): LS 1.5 us, LuGre 1 us */
+    static const float step_s[2] = {1.5e-6f, 1.0e-6f};
     for (int m = 0; m < 2; ++m) {
         ss_actuator_config_f32_t cfg = ss_actuator_config_table1_f32();
         cfg.friction_model = m;
+        cfg.dt_s = step_s[m];
         ss_waveform_config_f32_t w = ss_waveform_paper_f32();
         w.cycles = 1000u;
         ss_waveform_state_f32_t ws;

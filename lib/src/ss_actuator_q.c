@@ -197,6 +197,40 @@ static int32_t piezo_strain_q40(const ss_actuator_config_q_t *cfg, ss_actuator_s
     return ss_sat32((int64_t)u - st->hysteresis_q40);
 }
 
+/* LS's advance over a drift whose relative motion turned inside it, from v0 (its start) to v1
+ * (its end), signs opposite: up to the turning point, then back, each piece over its own time (as
+ * the float step, ss_actuator_f32.c: the velocity linear in between). The turning time's fraction
+ * and the pieces' 1/dt by reciprocals (ss_reciprocal_mantissa_q): no division. */
+static void ls_advance_turning(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st, int32_t dx_rel,
+                               int64_t v0, int64_t v1)
+{
+    const int64_t dv = ss_abs64(v0 - v1); /* |v0| + |v1| */
+    int sh = 0;
+    const int32_t m = (dv < INT32_MAX) ? ss_reciprocal_mantissa_q((uint32_t)dv, &sh) : 0;
+    /* |v0| / (|v0| + |v1|) in Q30 */
+    const int64_t frac = (m == 0) ? 0 : ss_mul_recip_q((int32_t)ss_abs64(v0), m, sh - 30);
+    if (frac <= 0 || frac >= SS_Q30_ONE) {
+        ss_ls_advance_q(&cfg->friction, &st->fr.ls, dx_rel, cfg->inv_dt_q47);
+        return;
+    }
+    /* the excursion to the turn: v0 frac dt / 2 (v0 dt in m at 2^-40 is within 32 bits: 8 m/s at
+     * 1 us is 2^43 x 8e-6 < 2^26) */
+    const int64_t v0_dt = ss_shr_round(ss_mul_i64_i32(v0, cfg->dt_q40), 28);
+    const int32_t turn = ss_sat32(ss_shr_round(v0_dt * frac, 31));
+    int sh1 = 0;
+    int sh2 = 0;
+    const int32_t m1 = ss_reciprocal_mantissa_q((uint32_t)frac, &sh1);
+    const int32_t m2 = ss_reciprocal_mantissa_q((uint32_t)(SS_Q30_ONE - frac), &sh2);
+    /* 1 / (frac dt) and 1 / ((1 - frac) dt): inv_dt 2^30 / frac (a very short piece saturates,
+     * and its slip's velocity with it: it slips a negligible distance) */
+    const int32_t inv1 = ss_sat32(ss_mul_recip_q(cfg->inv_dt_q47, m1, sh1 - 30));
+    const int32_t inv2 = ss_sat32(ss_mul_recip_q(cfg->inv_dt_q47, m2, sh2 - 30));
+    if (turn != 0) {
+        ss_ls_advance_q(&cfg->friction, &st->fr.ls, turn, inv1);
+    }
+    ss_ls_advance_q(&cfg->friction, &st->fr.ls, ss_sat32((int64_t)dx_rel - turn), inv2);
+}
+
 ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
                                int32_t drive_q16)
 {
@@ -208,6 +242,7 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     }
     const int64_t dt = cfg->dt_q40;
     kick(cfg, st);
+    const int64_t v_rel0 = (int64_t)st->v_rod_q28 - st->v_slider_q28;
 
     /* drift: exact flow of the rod under an anchor (strain plus base) ramping linearly over the step
      * (rate b); the stack's damper acts on the rod's velocity relative to the base, so its forced
@@ -261,7 +296,14 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
         ss_lugre_advance_q(&cfg->friction, &st->fr.lugre, dx_rel, cfg->inv_dt_q47);
         f_free = ss_lugre_force_at_q(&cfg->friction, &st->fr.lugre, v_free, &slopes);
     } else {
-        ss_ls_advance_q(&cfg->friction, &st->fr.ls, dx_rel, cfg->inv_dt_q47);
+        /* where the relative motion turned inside the drift: LS's Masing memory keeps that point
+         * (the float step, ss_actuator_f32.c, says why) */
+        const int64_t v_rel1 = (int64_t)st->v_rod_q28 - st->v_slider_q28;
+        if ((v_rel0 > 0 && v_rel1 < 0) || (v_rel0 < 0 && v_rel1 > 0)) {
+            ls_advance_turning(cfg, st, dx_rel, v_rel0, v_rel1);
+        } else {
+            ss_ls_advance_q(&cfg->friction, &st->fr.ls, dx_rel, cfg->inv_dt_q47);
+        }
         f_free = ss_ls_force_at_q(&cfg->friction, &st->fr.ls, v_free, &slopes);
     }
     /* N s/m in Q16 times (m/s)/N at 2^-40 is 2^-56: to Q30; and the rod's compliance the kicks
