@@ -3,6 +3,7 @@
 #include <stddef.h>
 
 #include "ss_fixed_ops.h"
+#include "ss_inline.h"
 
 /* 0.1 in Q30, the float family's floor on the implicit-damping denominator. */
 #define SS_ACT_Q_DENOM_MIN_Q30 107374182
@@ -200,9 +201,10 @@ static int32_t piezo_strain_q40(const ss_actuator_config_q_t *cfg, ss_actuator_s
 /* LS's advance over a drift whose relative motion turned inside it, from v0 (its start) to v1
  * (its end), signs opposite: up to the turning point, then back, each piece over its own time (as
  * the float step, ss_actuator_f32.c: the velocity linear in between). The turning time's fraction
- * and the pieces' 1/dt by reciprocals (ss_reciprocal_mantissa_q): no division. */
-static void ls_advance_turning(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st, int32_t dx_rel,
-                               int64_t v0, int64_t v1)
+ * and the pieces' 1/dt by reciprocals (ss_reciprocal_mantissa_q): no division. Out of line: a
+ * minority of steps take it, and inline it grew the step by 1 KB on the Cortex-M3. */
+SS_NOINLINE void ls_advance_turning(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                                    int32_t dx_rel, int64_t v0, int64_t v1)
 {
     const int64_t dv = ss_abs64(v0 - v1); /* |v0| + |v1| */
     int sh = 0;
@@ -223,12 +225,11 @@ static void ls_advance_turning(const ss_actuator_config_q_t *cfg, ss_actuator_st
     const int32_t m2 = ss_reciprocal_mantissa_q((uint32_t)(SS_Q30_ONE - frac), &sh2);
     /* 1 / (frac dt) and 1 / ((1 - frac) dt): inv_dt 2^30 / frac (a very short piece saturates,
      * and its slip's velocity with it: it slips a negligible distance) */
-    const int32_t inv1 = ss_sat32(ss_mul_recip_q(cfg->inv_dt_q47, m1, sh1 - 30));
-    const int32_t inv2 = ss_sat32(ss_mul_recip_q(cfg->inv_dt_q47, m2, sh2 - 30));
     if (turn != 0) {
-        ss_ls_advance_q(&cfg->friction, &st->fr.ls, turn, inv1);
+        ss_ls_advance_q(&cfg->friction, &st->fr.ls, turn, ss_sat32(ss_mul_recip_q(cfg->inv_dt_q47, m1, sh1 - 30)));
     }
-    ss_ls_advance_q(&cfg->friction, &st->fr.ls, ss_sat32((int64_t)dx_rel - turn), inv2);
+    ss_ls_advance_q(&cfg->friction, &st->fr.ls, ss_sat32((int64_t)dx_rel - turn),
+                    ss_sat32(ss_mul_recip_q(cfg->inv_dt_q47, m2, sh2 - 30)));
 }
 
 ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
