@@ -226,7 +226,8 @@ SS_NOINLINE void ls_advance_turning(const ss_actuator_config_q_t *cfg, ss_actuat
     /* 1 / (frac dt) and 1 / ((1 - frac) dt): inv_dt 2^30 / frac (a very short piece saturates,
      * and its slip's velocity with it: it slips a negligible distance) */
     if (turn != 0) {
-        ss_ls_advance_q(&cfg->friction, &st->fr.ls, turn, ss_sat32(ss_mul_recip_q(cfg->inv_dt_q47, m1, sh1 - 30)));
+        ss_ls_advance_q(&cfg->friction, &st->fr.ls, turn,
+                        ss_sat32(ss_mul_recip_q(cfg->inv_dt_q47, m1, sh1 - 30)));
     }
     ss_ls_advance_q(&cfg->friction, &st->fr.ls, ss_sat32((int64_t)dx_rel - turn),
                     ss_sat32(ss_mul_recip_q(cfg->inv_dt_q47, m2, sh2 - 30)));
