@@ -10,7 +10,7 @@
 
 /* Slider position after two cycles at 2000 Hz, 100 V, rise 0.95, Table I q config (m at 2^-40);
  * the same under LuGre, and under LuGre with the effects below (test_q_bit_exact_reference). */
-#define SS_Q_CHECK_X_SLIDER 9385798LL
+#define SS_Q_CHECK_X_SLIDER 9385943LL
 #define SS_Q_CHECK_X_SLIDER_LUGRE 9146832LL
 #define SS_Q_CHECK_X_SLIDER_EFFECTS 7279943LL
 

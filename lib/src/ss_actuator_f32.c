@@ -362,8 +362,9 @@ SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_a
     c->inv_mc = 1.0f / cfg->slider_mass_kg;
 
     /* kick: half a step of friction on both bodies */
+    const float v_rel_start = st->v_rod_m_per_s - st->v_slider_m_per_s;
     half_kick(cfg, st, c->inv_mr, c->inv_mc);
-    const float v_rel0 = st->v_rod_m_per_s - st->v_slider_m_per_s;
+    const float kick_dv = v_rel_start - (st->v_rod_m_per_s - st->v_slider_m_per_s);
 
     /* drift: the rod's exact flow under the piezo anchor (strain plus base), in two pieces when the
      * drive bends inside the step (each with the flow over its own length) */
@@ -382,20 +383,23 @@ SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_a
     const float x_b1 = x_b0 + st->fx.v_base_m_per_s * dt;
     const float dx_slider = st->v_slider_m_per_s * dt;
     c->dx_rel = (st->x_rod_m - x_rod0) - dx_slider;
-    /* Where the relative motion turned inside the drift (the rod's 69 kHz ringing turns it about
-     * 70 times a cycle of the paper's drive): from the relative velocities at the drift's ends,
-     * linear in between. LS's Masing memory keeps that turning point; taken at the step's end,
-     * the loop it closes was up to (w dt)^2 / 8 of the ring short, and LS's per-cycle error over
-     * the drive matrix was 0.087 % at 1 us and 0.31 % at 1.5 us, 0.029 % and 0.085 % with it
-     * (docs/model.md). LuGre keeps no turning point, and split so its error grew (0.056 % ->
-     * 0.127 % at 1 us). */
+    /* Where the relative motion turned inside the step (the rod's 69 kHz ringing after the fall
+     * turns it some 70 times a cycle): the relative velocity linear from its value at the step's
+     * start (before the opening kick) to the drift's end less the same kick (the closing one, its
+     * force taken as the opening's), the two averaging to the drift's. LS's Masing memory keeps
+     * that turning point; taken at the step's end, the loop it closes was up to (w dt)^2 / 8 of
+     * the ring short, and LS's per-cycle error over the drive matrix was 0.087 % at 1 us and
+     * 0.31 % at 1.5 us (docs/model.md). The drift's own velocities turn in most steps of a stick
+     * phase, where the kicks alone flip the sign. LuGre keeps no turning point, and the split
+     * made its error grow (0.056 % -> 0.127 % at 1 us). */
     c->turn_m = 0.0f;
     c->turn_frac = 0.0f;
     if (cfg->friction_model == SS_FRICTION_LS) {
-        const float v_rel1 = st->v_rod_m_per_s - st->v_slider_m_per_s;
-        if (v_rel0 * v_rel1 < 0.0f) {
-            c->turn_frac = v_rel0 / (v_rel0 - v_rel1);
-            c->turn_m = 0.5f * v_rel0 * c->turn_frac * dt;
+        const float p1 = (st->v_rod_m_per_s - st->v_slider_m_per_s) - kick_dv;
+        const float frac = v_rel_start / (v_rel_start - p1);
+        if (v_rel_start * p1 < 0.0f && frac < 1.0f) { /* frac rounds to 1 where p1 is tiny: no turn */
+            c->turn_frac = frac;
+            c->turn_m = 0.5f * v_rel_start * frac * dt;
         }
     }
     st->fx.x_base_m = x_b1;

@@ -198,11 +198,14 @@ static int32_t piezo_strain_q40(const ss_actuator_config_q_t *cfg, ss_actuator_s
     return ss_sat32((int64_t)u - st->hysteresis_q40);
 }
 
-/* LS's advance over a drift whose relative motion turned inside it, from v0 (its start) to v1
- * (its end), signs opposite: up to the turning point, then back, each piece over its own time (as
- * the float step, ss_actuator_f32.c: the velocity linear in between). The turning time's fraction
- * and the pieces' 1/dt by reciprocals (ss_reciprocal_mantissa_q): no division. Out of line: a
- * minority of steps take it, and inline it grew the step by 1 KB on the Cortex-M3. */
+/* LS's advance over a step whose relative motion turned inside it, from v0 (the step's start) to
+ * v1 (its end, the closing kick estimated), signs opposite: up to the turning point, then back,
+ * each piece over its own time (as the float step, ss_actuator_f32.c: the velocity linear in
+ * between). The turning time's fraction and the pieces' 1/dt by reciprocals
+ * (ss_reciprocal_mantissa_q): no division. Out of line: a minority of steps take it, and inline it
+ * grew the step by 1 KB on the Cortex-M3. Where float and q differ: |v0| + |v1| from 8 m/s (no
+ * turn taken), and a piece shorter than 0.06 us, the format's shortest step, whose 1/dt saturates
+ * (its slip's velocity understated; it slips at most its own excursion). */
 SS_NOINLINE void ls_advance_turning(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
                                     int32_t dx_rel, int64_t v0, int64_t v1)
 {
@@ -215,16 +218,15 @@ SS_NOINLINE void ls_advance_turning(const ss_actuator_config_q_t *cfg, ss_actuat
         ss_ls_advance_q(&cfg->friction, &st->fr.ls, dx_rel, cfg->inv_dt_q47);
         return;
     }
-    /* the excursion to the turn: v0 frac dt / 2 (v0 dt in m at 2^-40 is within 32 bits: 8 m/s at
-     * 1 us is 2^43 x 8e-6 < 2^26) */
-    const int64_t v0_dt = ss_shr_round(ss_mul_i64_i32(v0, cfg->dt_q40), 28);
-    const int32_t turn = ss_sat32(ss_shr_round(v0_dt * frac, 31));
+    /* the excursion to the turn: v0 frac dt / 2; v0 dt in m at 2^-40 saturates at 2^31 (2 mm: 2 m/s
+     * over the longest step), so the product with frac stays within 64 bits */
+    const int32_t v0_dt = ss_sat32(ss_shr_round(ss_mul_i64_i32(v0, cfg->dt_q40), 28));
+    const int32_t turn = ss_sat32(ss_shr_round(ss_mul_s32_s64(v0_dt, (int32_t)frac), 31));
     int sh1 = 0;
     int sh2 = 0;
     const int32_t m1 = ss_reciprocal_mantissa_q((uint32_t)frac, &sh1);
     const int32_t m2 = ss_reciprocal_mantissa_q((uint32_t)(SS_Q30_ONE - frac), &sh2);
-    /* 1 / (frac dt) and 1 / ((1 - frac) dt): inv_dt 2^30 / frac (a very short piece saturates,
-     * and its slip's velocity with it: it slips a negligible distance) */
+    /* 1 / (frac dt) and 1 / ((1 - frac) dt): inv_dt 2^30 / frac */
     if (turn != 0) {
         ss_ls_advance_q(&cfg->friction, &st->fr.ls, turn,
                         ss_sat32(ss_mul_recip_q(cfg->inv_dt_q47, m1, sh1 - 30)));
@@ -243,8 +245,9 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
         return SS_ERR_RANGE; /* cfg did not pass init */
     }
     const int64_t dt = cfg->dt_q40;
+    const int64_t v_rel_start = (int64_t)st->v_rod_q28 - st->v_slider_q28;
     kick(cfg, st);
-    const int64_t v_rel0 = (int64_t)st->v_rod_q28 - st->v_slider_q28;
+    const int64_t kick_dv = v_rel_start - ((int64_t)st->v_rod_q28 - st->v_slider_q28);
 
     /* drift: exact flow of the rod under an anchor (strain plus base) ramping linearly over the step
      * (rate b); the stack's damper acts on the rod's velocity relative to the base, so its forced
@@ -300,9 +303,9 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     } else {
         /* where the relative motion turned inside the drift: LS's Masing memory keeps that point
          * (the float step, ss_actuator_f32.c, says why) */
-        const int64_t v_rel1 = (int64_t)st->v_rod_q28 - st->v_slider_q28;
-        if ((v_rel0 > 0 && v_rel1 < 0) || (v_rel0 < 0 && v_rel1 > 0)) {
-            ls_advance_turning(cfg, st, dx_rel, v_rel0, v_rel1);
+        const int64_t p1 = (int64_t)st->v_rod_q28 - st->v_slider_q28 - kick_dv;
+        if ((v_rel_start > 0 && p1 < 0) || (v_rel_start < 0 && p1 > 0)) {
+            ls_advance_turning(cfg, st, dx_rel, v_rel_start, p1);
         } else {
             ss_ls_advance_q(&cfg->friction, &st->fr.ls, dx_rel, cfg->inv_dt_q47);
         }

@@ -149,7 +149,7 @@ static void test_step_convergence(void **unused)
 
 /* LS keeps the point where the relative motion turned inside a step (the rod's 69 kHz ringing
  * turns it some 70 times a cycle): at 1.25 us the settled step of the 2 kHz drive with a 15 us
- * fall is within issue 17's 0.1 % of 0.125 us (0.023 %; 0.234 % when the turn was taken at the
+ * fall is within issue 17's 0.1 % of 0.125 us (0.003 %; 0.234 % when the turn was taken at the
  * step's end, docs/model.md). 400 steps a period: the cycles' ends fall on the grid. */
 static void test_ls_turning_point_inside_a_step(void **unused)
 {

@@ -781,7 +781,7 @@ static void test_q_bit_exact_reference(void **unused)
     /* SS_Q_CHECK_X_SLIDER in q_check.c: 8.54 um (9386164 while the step divided by Fs: 7 fm;
      * 9386156 before the rod's compliance was taken up in the contact's force, 9387071 before LS
      * kept the turning point inside a step) */
-    assert_true(st.x_slider_q40 == 9385798);
+    assert_true(st.x_slider_q40 == 9385943);
     /* the same drive under LuGre, and under LuGre with a load, a slew limit, a hysteresis and a base
      * (q_check.c's effects): SS_Q_CHECK_X_SLIDER_LUGRE and SS_Q_CHECK_X_SLIDER_EFFECTS */
     ss_actuator_config_q_t lg = cfg;
