@@ -127,6 +127,5 @@ ss_node_drive_t ss_node_model_wave_value(const ss_node_wave_t *w, const ss_node_
 void ss_node_model_wave_step(const ss_node_config_t *cfg, ss_node_state_t *st, const ss_node_wave_t *w,
                              ss_node_wave_state_t *ws)
 {
-    ss_waveform_advance_q(ws);
-    (void)ss_actuator_step_q(cfg, st, ss_waveform_value_q(w, ws));
+    (void)ss_actuator_wave_step_q(cfg, st, w, ws);
 }

@@ -4,8 +4,9 @@ the 15 us fall at 100 Hz to 2 kHz and the paper's drive (100 us fall at 500 Hz),
 100 V, for LS and LuGre. The first cycle (from rest) is left out, and a last one that the run
 does not reach the end of (SimResult.per_cycle_steps); the reference is the same core
 at 0.125 us (it differs from 0.03125 us by at most 0.013 % per cycle on the worst case).
+With --variant q the fixed-point core runs the steps, against the same float reference.
 
-    PYTHONPATH=hil .venv/bin/python bench/step_study.py [--steps-us 0.5,1,1.25,2,2.5,5]
+    PYTHONPATH=hil .venv/bin/python bench/step_study.py [--steps-us 0.5,1,1.25,2] [--variant q]
 """
 
 from __future__ import annotations
@@ -22,16 +23,22 @@ CYCLES = {100.0: 4, 300.0: 6, 500.0: 8, 1000.0: 10, 2000.0: 12}  # about 40 ms o
 DRIVES = [(f, 15e-6) for f in CYCLES] + [(500.0, 100e-6)]
 
 
-def steps(model: str, f_hz: float, direction: int, fall_s: float, dt_s: float) -> np.ndarray:
+def steps(
+    model: str, f_hz: float, direction: int, fall_s: float, dt_s: float, variant: str = "f32"
+) -> np.ndarray:
     w = Sawtooth(frequency_hz=f_hz, amplitude_v=100.0, direction=direction, cycles=CYCLES[f_hz])
-    r = simulate(w.with_fall_time(fall_s), model=model, dt_s=dt_s, decimation=1)
+    r = simulate(w.with_fall_time(fall_s), model=model, dt_s=dt_s, decimation=1, variant=variant)
     return r.per_cycle_steps()[1:]
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--steps-us", default="0.5,1,1.25,2,2.5,5")
-    dts = [float(x) * 1e-6 for x in ap.parse_args().steps_us.split(",")]
+    ap.add_argument(
+        "--variant", choices=("f32", "q"), default="f32", help="the core that runs the steps"
+    )
+    a = ap.parse_args()
+    dts = [float(x) * 1e-6 for x in a.steps_us.split(",")]
     worst: dict[tuple[str, float], tuple[float, str]] = {}
     for model in ("ls", "lugre"):
         for f_hz, fall_s in DRIVES:
@@ -39,7 +46,7 @@ def main() -> None:
                 ref = steps(model, f_hz, direction, fall_s, REF_DT_S)
                 case = f"{f_hz:g} Hz {'fwd' if direction > 0 else 'rev'} {fall_s * 1e6:g} us"
                 for dt in dts:
-                    s = steps(model, f_hz, direction, fall_s, dt)
+                    s = steps(model, f_hz, direction, fall_s, dt, a.variant)
                     n = len(s)  # a run that stops short of its drive's end has one cycle fewer
                     err = 100 * float(np.max(np.abs(s / ref[:n] - 1)))
                     if err > worst.get((model, dt), (-1.0, ""))[0]:

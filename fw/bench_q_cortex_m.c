@@ -5,6 +5,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "bench_q_config.h"
 #include "ss_actuator_q.h"
 #include "ss_fmt.h"
 #include "ss_port_cortex_m.h"
@@ -20,8 +21,12 @@ int main(void)
 {
     const ss_port_link_t *link = ss_cortex_m_init();
     static const char *const names[2] = {"ls", "lugre"};
+    /* each law at the longest step at which it holds issue 17's 0.1 % a cycle over the drive matrix
+     * (bench/step_study.py --variant q, docs/fixed-point.md): LS 1.5 us (a config the host made,
+     * bench_q_config.h), LuGre Table I's 1 us */
+    static const ss_actuator_config_q_t ls_cfg = SS_BENCH_Q_LS_CONFIG;
     for (int32_t m = 0; m < 2; ++m) {
-        ss_actuator_config_q_t cfg = ss_actuator_config_table1_q();
+        ss_actuator_config_q_t cfg = (m == SS_FRICTION_Q_LS) ? ls_cfg : ss_actuator_config_table1_q();
         cfg.friction_model = m;
         ss_waveform_config_q_t w = ss_waveform_paper_q();
         w.cycles = 1000u;

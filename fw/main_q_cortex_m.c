@@ -75,8 +75,7 @@ int main(void)
     }
     /* the fixed-step loop: the drive's next sample, then one step of the model */
     for (uint32_t i = 1u; i <= n_steps && status == SS_OK; ++i) {
-        ss_waveform_advance_q(&ws);
-        status = ss_actuator_step_q(&cfg, &st, ss_waveform_value_q(&w, &ws));
+        status = ss_actuator_wave_step_q(&cfg, &st, &w, &ws);
         if (status == SS_OK && i % Q_FW_EVERY == 0u) {
             send_row(link, st.steps, st.x_slider_q40);
         }

@@ -201,7 +201,7 @@ class ActuatorConfigQ(C.Structure):
         ("inv_dt_q47", C.c_int32),
         ("effects", EffectsConfigQ),
         ("contact_lag_q30", C.c_int32),
-        ("pad", C.c_int32),
+        ("rod_w2dt2_q28", C.c_int32),
     ]
 
 

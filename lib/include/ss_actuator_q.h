@@ -36,7 +36,10 @@ typedef struct {
     /* sigma0 dt^2 / (12 M_R), Q2.30 in [0, 2^31): the rod's compliance the kicks leave out, times
      * the contact's largest stiffness (docs/model.md, "The rod seen through kicks") */
     int32_t contact_lag_q30;
-    int32_t pad; /* zero; keeps the size a multiple of 8 on every target */
+    /* (w dt)^2 = k dt^2 / M_R, Q4.28 in [0, 2^28]: the rod mode over a step, with which a step takes
+     * a drive that bends inside it (ss_actuator_step_corner_q); 0 takes the bend on the chord (steps
+     * beyond (w dt)^2 = 1, 2.3 us for Table I, where the series the step uses no longer holds) */
+    int32_t rod_w2dt2_q28;
 } ss_actuator_config_q_t;
 
 typedef struct {
@@ -79,6 +82,15 @@ ss_status_t ss_actuator_init_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
 ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
                                int32_t drive_q16);
 
+/* One step whose drive bends inside it, as ss_actuator_step_corner_f32: linear from its current
+ * value to corner_q16 at corner_frac_q30 x dt (a share in (0, 2^30)), then linear to drive_q16. The
+ * rod takes the bend by its response to the anchor's deviation from the chord, to second order in
+ * (w dt)^2 (rod_w2dt2_q28; docs/fixed-point.md); the slew limit and the hysteresis take the step in
+ * its two pieces. Taken on the chord, a corner inside a step put 0.08 % into a cycle's step at 1 us
+ * (300 Hz, 15 us fall) and 0.27 % at 1.5 us. Bad corner_frac_q30: SS_ERR_RANGE, state unchanged. */
+ss_status_t ss_actuator_step_corner_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                                      int32_t drive_q16, int32_t corner_frac_q30, int32_t corner_q16);
+
 /* Columns a run may record (any pointer may be NULL); formats as in the state. */
 typedef struct {
     uint32_t *step;
@@ -104,6 +116,11 @@ int64_t ss_actuator_sensor_q(const ss_actuator_config_q_t *cfg, int64_t x_slider
 /* Write the current state into row `row` of the trace (row < capacity is the caller's duty). */
 void ss_actuator_record_q(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
                           ss_actuator_trace_q_t *trace, uint32_t row);
+
+/* Advance the waveform player one step and take that step, with the drive's corner if one lies
+ * inside it (ss_waveform_corner_q): what ss_actuator_run_q and the node's free run do. */
+ss_status_t ss_actuator_wave_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                                    const ss_waveform_config_q_t *wave, ss_waveform_state_q_t *wst);
 
 /* Play a waveform through the actuator for n_steps, recording after every decimation-th step, as
  * ss_actuator_run_f32. rows_out gets the rows written. */

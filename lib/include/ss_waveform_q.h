@@ -44,6 +44,14 @@ int32_t ss_waveform_value_q(const ss_waveform_config_q_t *cfg, const ss_waveform
 /* Advance the player by one step. */
 void ss_waveform_advance_q(ss_waveform_state_q_t *st);
 
+/* Where the drive bends inside the next step (the one ss_waveform_advance_q would take), as
+ * ss_waveform_corner_f32: 1 with *frac_q30 in (0, 2^30), the corner's time as a share of the step,
+ * and *v_q16 the drive there; 0 when the drive is one straight segment over the step, bends within
+ * 2^-10 of a step of its ends (the float family's 1e-3: an edge on the grid stays on it), or holds.
+ * A sawtooth bends at its peak and at each period's start. */
+int ss_waveform_corner_q(const ss_waveform_config_q_t *cfg, const ss_waveform_state_q_t *st,
+                         int32_t *frac_q30, int32_t *v_q16);
+
 /* The drive after each of the next n steps (advance, then value), into out_q16[0..n-1]. */
 ss_status_t ss_waveform_fill_q(const ss_waveform_config_q_t *cfg, ss_waveform_state_q_t *st, int32_t *out_q16,
                                uint32_t n);

@@ -61,6 +61,7 @@ static const qformat_entry_t QFORMATS[] = {
     {"kick_rod_q40", SS_QF_KICK},
     {"kick_slider_q40", SS_QF_KICK},
     {"contact_lag_q30", SS_QF_RATIO},
+    {"rod_w2dt2_q28", SS_QF_FLOW},
     {"phi_q28", SS_QF_FLOW},
     {"fs_q24", SS_QF_FORCE},
     {"fc_q24", SS_QF_FORCE},

@@ -183,7 +183,10 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
         return SS_ERR_RANGE;
     }
     out->contact_lag_q30 = (int32_t)v;
-    out->pad = 0;
+    /* (w dt)^2, with which a step takes a drive's corner inside it; 0 (the corner on the chord)
+     * past 1, where the step's series in it no longer holds */
+    const double w2dt2 = k * dt * dt / (double)in->rod_mass_kg;
+    out->rod_w2dt2_q28 = (w2dt2 <= 1.0) ? (int32_t)floor(w2dt2 * SS_QF_ONE(SS_QF_FLOW) + 0.5) : 0;
     double phi[4];
     rod_flow(k, c, (double)in->rod_mass_kg, dt, phi);
     const double scaled[4] = {phi[0], phi[1] / dt, phi[2] * dt, phi[3]};

@@ -118,7 +118,7 @@ static inline int64_t ss_mul_shr_round_wide(int64_t a, int32_t b, int s)
 /* A reciprocal made in the step, for a divisor that is not a config constant (the Stribeck level
  * g, the implicit-damping denominator): 1/d ~ m 2^-shift for d in [1, 2^31), m in [2^30, 2^31)
  * within 0.55 of 2^shift / d (relative error below 2^-30.8; every normalised d checked once, off
- * line; 2^31 - 1 where that is 2^31, d a power of two), shift = 61 + the left shift that brings d
+ * line; 2^31 - 1 where that is 2^31, d a power of two), shift = 61 less the left shift that brings d
  * into [2^30, 2^31). No division: a 256-entry seed, a Newton step in 32-bit products and one in
  * two 32 x 32 -> 64 products (tests/c/test_fixed.c, test_reciprocal_mantissa). d = 0 or d >= 2^31
  * gives m = 0. Defined in ss_fixed.c, so that its table is once in the image. */

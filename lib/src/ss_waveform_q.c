@@ -75,6 +75,41 @@ void ss_waveform_advance_q(ss_waveform_state_q_t *st)
     }
 }
 
+int ss_waveform_corner_q(const ss_waveform_config_q_t *cfg, const ss_waveform_state_q_t *st,
+                         int32_t *frac_q30, int32_t *v_q16)
+{
+    if (st->index >= cfg->cycles) {
+        return 0; /* holding */
+    }
+    /* the next corner not yet passed, as a phase at 2^-64: the peak, or the period's end (2^64,
+     * which is 0 mod 2^64: d is then 2^64 - phase, the unsigned difference) */
+    const uint64_t r = (uint64_t)cfg->rise_q32 << 32;
+    const uint64_t peak = (cfg->direction < 0) ? (uint64_t)0 - r : r;
+    const uint64_t p = st->phase_q64;
+    const uint64_t s = st->step_q64;
+    const uint64_t end = p + s; /* below p where the step passes the period's end */
+    if (end > p && (p >= peak || end <= peak)) {
+        return 0; /* most steps: neither the peak nor the period's end inside */
+    }
+    const int at_peak = p < peak;
+    const uint64_t d = (at_peak ? peak : 0u) - p;
+    const uint64_t margin = s >> 10;
+    if (d <= margin || d >= s - margin) {
+        return 0; /* on the step's start, on its end or beyond it */
+    }
+    /* d / s in Q30 by s's reciprocal, both cut to s's top 31 bits (the phase's low bits are far
+     * below a step's 2^-30) */
+    int k = 0;
+    while ((s >> k) > (uint64_t)INT32_MAX) {
+        ++k;
+    }
+    int sh = 0;
+    const int32_t m = ss_reciprocal_mantissa_q((uint32_t)(s >> k), &sh);
+    *frac_q30 = (int32_t)ss_mul_recip_q((int32_t)(d >> k), m, sh - 30);
+    *v_q16 = ss_sat32((int64_t)cfg->offset_q16 + (at_peak ? cfg->amplitude_q16 : 0));
+    return 1;
+}
+
 ss_status_t ss_waveform_fill_q(const ss_waveform_config_q_t *cfg, ss_waveform_state_q_t *st, int32_t *out_q16,
                                uint32_t n)
 {

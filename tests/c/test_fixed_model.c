@@ -484,10 +484,8 @@ static void run_both(ss_actuator_config_f32_t cf, double f_hz, double amp_v, dou
     uint32_t n = 0;
     for (uint32_t k = 1; k <= cycles; ++k) {
         for (const uint32_t n_k = (uint32_t)floor(k * per + 0.5); n < n_k; ++n) {
-            ss_waveform_advance_f32(&swf);
-            ss_actuator_step_f32(&cf, &sf, ss_waveform_value_f32(&wf, &swf));
-            ss_waveform_advance_q(&swq);
-            ss_actuator_step_q(&cq, &sq, ss_waveform_value_q(&wq, &swq));
+            ss_actuator_wave_step_f32(&cf, &sf, &wf, &swf); /* both with the drive's corners */
+            ss_actuator_wave_step_q(&cq, &sq, &wq, &swq);
         }
         x_f[k] = ss_position_value_f32(sf.x_slider);
         x_q[k] = (double)(sq.x_slider_q40 - x0_q) / Q40;
@@ -685,8 +683,7 @@ static void test_q_run_matches_manual_steps(void **unused)
     assert_int_equal(ss_actuator_run_q(&c, &a, &w, &wa, N, DEC, &tr, &rows), SS_OK);
     assert_int_equal(rows, ROWS);
     for (uint32_t k = 1; k <= N; ++k) {
-        ss_waveform_advance_q(&wb);
-        ss_actuator_step_q(&c, &b, ss_waveform_value_q(&w, &wb));
+        ss_actuator_wave_step_q(&c, &b, &w, &wb);
         if (k % DEC == 0) {
             const uint32_t r = k / DEC - 1;
             assert_int_equal(step[r], k);
@@ -706,6 +703,60 @@ static void test_q_run_matches_manual_steps(void **unused)
     assert_int_equal(ss_actuator_run_q(&c, &a, &w, &wa, N, DEC, &tr, &rows), SS_ERR_RANGE);
     assert_int_equal(ss_actuator_run_q(&c, &a, &w, &wa, N, 0, NULL, &rows), SS_ERR_RANGE);
     assert_int_equal(ss_actuator_run_q(&c, &a, &w, &wa, N, 1, NULL, NULL), SS_ERR_NULL);
+}
+
+/* The q player's corners are the float player's: the same steps, the same drive there, the same
+ * place within 5e-4 of a step, the two steps' difference aside (the float player's time into a
+ * period is float32: 2.3e-10 s, 2.3e-4 of a step, its last bit at 3 ms; measured up to 3.3e-4), both
+ * directions, a 300 Hz sawtooth whose corners fall at a third and two thirds of a step; and a
+ * corner share outside (0, 1) is refused with the state unchanged. */
+static void test_q_waveform_corners(void **unused)
+{
+    (void)unused;
+    for (int dir = -1; dir <= 1; dir += 2) {
+        ss_waveform_config_f32_t wf = ss_waveform_sawtooth_f32(300.0f, 100.0f, 2.0f, 0.95f, dir, 3);
+        ss_waveform_config_q_t wq;
+        assert_int_equal(ss_waveform_config_to_q(&wf, &wq, NULL), SS_OK);
+        ss_actuator_config_f32_t cf = ss_actuator_config_table1_f32();
+        ss_actuator_config_q_t cq;
+        assert_int_equal(ss_actuator_config_to_q(&cf, &cq, NULL), SS_OK);
+        ss_waveform_state_q_t sq;
+        ss_waveform_state_f32_t sf;
+        assert_int_equal(ss_waveform_init_q(&wq, cq.dt_q40, &sq), SS_OK);
+        assert_int_equal(ss_waveform_init_f32(&wf, cf.dt_s, &sf), SS_OK);
+        int corners = 0;
+        for (int k = 0; k < 10500; ++k) {
+            float frac_f = 0.0f, v_f = 0.0f;
+            int32_t frac_q = 0, v_q = 0;
+            const int has_f = ss_waveform_corner_f32(&wf, &sf, &frac_f, &v_f);
+            const int has_q = ss_waveform_corner_q(&wq, &sq, &frac_q, &v_q);
+            if (has_q && !has_f) {
+                /* on the grid for the float player, 3.5e-3 of a step inside for q's longer step */
+                const double fq = frac_q / 1073741824.0;
+                assert_true(fmin(fq, 1.0 - fq) < 5e-3);
+            }
+            assert_true(has_q || !has_f);
+            if (has_f) {
+                /* the q step is 3.4e-7 of itself longer than the float one: k steps in, the q
+                 * corner lies k x 3.4e-7 of a step earlier within its step */
+                const double drift = (double)k * ((double)cq.dt_q40 * 0x1p-40 / (double)cf.dt_s - 1.0);
+                assert_true(fabs(frac_q / 1073741824.0 + drift - (double)frac_f) < 5e-4);
+                assert_int_equal(v_q, ss_volts_to_q16((double)v_f));
+                ++corners;
+            }
+            ss_waveform_advance_q(&sq);
+            ss_waveform_advance_f32(&sf);
+        }
+        assert_int_equal(corners, 4); /* of 6: the period boundaries at 10 ms lie on the grid */
+    }
+    ss_actuator_config_q_t c = ss_actuator_config_table1_q();
+    ss_actuator_state_q_t st;
+    assert_int_equal(ss_actuator_init_q(&c, &st, 0), SS_OK);
+    const ss_actuator_state_q_t before = st;
+    assert_int_equal(ss_actuator_step_corner_q(&c, &st, 1 << 16, 0, 1 << 16), SS_ERR_RANGE);
+    assert_int_equal(ss_actuator_step_corner_q(&c, &st, 1 << 16, SS_Q30_ONE, 1 << 16), SS_ERR_RANGE);
+    assert_memory_equal(&st, &before, sizeof st);
+    assert_int_equal(ss_actuator_step_corner_q(&c, &st, 1 << 16, SS_Q30_ONE / 2, 2 << 16), SS_OK);
 }
 
 /* The phase accumulator: period boundaries at the exact step, shape as the float sawtooth. */
@@ -830,6 +881,7 @@ int main(void)
         cmocka_unit_test(test_q_rest_stays_at_rest),
         cmocka_unit_test(test_q_run_matches_manual_steps),
         cmocka_unit_test(test_q_waveform),
+        cmocka_unit_test(test_q_waveform_corners),
         cmocka_unit_test(test_q_actuator_steps_match_float),
         cmocka_unit_test(test_q_effects_steps_match_float),
         cmocka_unit_test(test_q_sensor_scale),

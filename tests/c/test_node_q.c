@@ -179,8 +179,7 @@ static void test_free_run_is_the_q_model(void **unused)
         const uint32_t n = ss_get_u16(&frames[f].payload[5]);
         for (uint32_t i = 0; i < n; ++i) {
             for (int s = 0; s < 10; ++s) {
-                ss_waveform_advance_q(&ws);
-                (void)ss_actuator_step_q(&cfg, &ref, ss_waveform_value_q(&wq, &ws));
+                (void)ss_actuator_wave_step_q(&cfg, &ref, &wq, &ws);
             }
             expect_row(&frames[f].payload[7 + (size_t)i * SS_PROTO_ROW_BYTES], &ref);
             seen++;

@@ -2,8 +2,10 @@
 staircase it sends over its emulated UART is, integer for integer, what the host's q core computes,
 on the Cortex-M3 and on the Cortex-M0+ (ARMv6-M, no long multiply or divide instructions)."""
 
+import importlib.util
 import os
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -69,3 +71,16 @@ def test_q_check_image_runs_every_entry_point_on_the_m0plus():
     cmd = ["qemu-system-arm", "-M", "mps2-an385", "-nographic", "-semihosting", "-monitor"]
     r = subprocess.run([*cmd, "none", "-serial", "null", "-kernel", str(elf)], timeout=60)
     assert r.returncode == 0
+
+
+def test_q_bench_config_is_the_converters():
+    # fw/bench_q_config.h (the q bench's LS config at 1.5 us) is generated on the host: it must be
+    # what bench/q_bench_config.py makes of Table I with this library's converter, or the bench
+    # would time a config the library no longer makes
+    root = Path(__file__).resolve().parents[2]
+    spec = importlib.util.spec_from_file_location(
+        "q_bench_config", root / "bench" / "q_bench_config.py"
+    )
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert (root / "fw" / "bench_q_config.h").read_text() == mod.header()
