@@ -414,8 +414,14 @@ def _setup(
     if variant == "q":
         if heat0_j != 0.0:
             raise ValueError("the q variant has no thermal_drift (heat0_j must be 0)")
-        if drive_v is not None:
-            raise ValueError("the q variant plays sawtooth waveforms only (no sampled drive)")
+        q_dt_s = N.config_to_q(cfg).dt_q40 * 2.0**-40
+        if drive_v is not None and hold_s != 0.0:
+            raise ValueError("the q variant holds no sampled drive (hold_s must be 0)")
+        if drive_v is not None and not math.isclose(drive_interval_s or 0.0, q_dt_s, rel_tol=1e-6):
+            raise ValueError(
+                f"the q variant takes a sampled drive one sample a step: drive_interval_s must be "
+                f"its step, {q_dt_s!r} s, got {drive_interval_s!r}"
+            )
         if x0_m != 0.0:
             raise ValueError("the q variant starts the slider at 0 (x0_m must be 0)")
     return _Setup(
@@ -466,7 +472,8 @@ def simulate(
     drive_interval_s, linearly interpolated), with the C model; effects switch on optional
     physics, x0_m is where the slider starts, heat0_j the frictional heat the contact holds at the
     start (thermal_drift: what the run before left; SimResult.heat_end_j is what this one leaves).
-    variant "q" runs the fixed-point core (sawtooth drive, slider starting at 0; of the effects,
+    variant "q" runs the fixed-point core (a sawtooth, or a drive sampled at its step taken one
+    sample a step, as a q node's lock-step; the slider starting at 0; of the effects,
     the load, the slew limit, the sensor scale, the asymmetric friction, the hysteresis and the
     base: the converter refuses the others by name)."""
     s = _setup(
@@ -484,7 +491,11 @@ def simulate(
         heat0_j,
     )
     if variant == "q":
-        return _result(s, _si_from_q(N.run_q(s.cfg, s.wave_cfg, s.n_steps, decimation), model), 0.0)
+        if s.samples is not None:
+            cols = N.run_q_samples(s.cfg, s.samples, decimation)
+        else:
+            cols = N.run_q(s.cfg, s.wave_cfg, s.n_steps, decimation)
+        return _result(s, _si_from_q(cols, model), 0.0)
     cols, heat_end = N.run_f32(s.cfg, s.wave_cfg, s.n_steps, decimation, x0_m, heat0_j)
     return _result(s, _f64(cols), heat_end)
 

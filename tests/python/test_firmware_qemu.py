@@ -129,8 +129,9 @@ def rows_of(c: NodeClient, drive: np.ndarray) -> list[tuple]:
 def test_q_firmware_lockstep_is_bit_exact_with_host_q_node(target):
     need_firmware(target)
     w = Sawtooth(cycles=2)
-    r = simulate(w, variant="q")
-    drive = r.drive_v.astype(np.float32)  # the q player's Q16.16 samples, exact in float32
+    drive = simulate(w, variant="q").drive_v.astype(np.float32)  # the q player's Q16.16 samples
+    # the q core fed those samples one a step, as lock-step does (test_hil_serial_q says why)
+    r = simulate(drive_v=drive, drive_interval_s=1099512 * 2.0**-40, variant="q")
     with HostNode("pty", variant="q") as h, NodeClient(h.url) as hc:
         host = rows_of(hc, drive)
         hc.set("normal_force_n", 12.5)  # a parameter set the converter makes on each side

@@ -33,8 +33,12 @@ def test_hello_says_fixed_point(node):
 
 def test_lockstep_is_the_q_model_bit_for_bit(node):
     w = Sawtooth(cycles=2)
-    r = simulate(w, variant="q")
-    drive = r.drive_v.astype(np.float32)  # Q16.16 values: exact in float32
+    drive = simulate(w, variant="q").drive_v.astype(np.float32)  # Q16.16 values: exact in float32
+    # lock-step feeds the node the player's samples, one a step: the drive linear between them.
+    # The player's own run also takes a corner inside a step (the last peak lies 1.3e-3 of a
+    # step off q's grid, whose step is 1.00000034 us), so the reference is the sampled run
+    dt_q = 1099512 * 2.0**-40
+    r = simulate(drive_v=drive, drive_interval_s=dt_q, variant="q")
     assert np.array_equal(drive.astype(np.float64), r.drive_v)
     with NodeClient(node.url) as c:
         c.reset(float(drive[0]))
@@ -88,6 +92,7 @@ def test_hil_run_command_starts_the_fixed_point_node(tmp_path, capsys):
     assert s["node"]["variant"] == "q" and s["link"]["lost_frames"] == 0
     run = D.load(out).runs[0]
     r = simulate(run.waveform, variant="q")
+    r = simulate(drive_v=r.drive_v, drive_interval_s=1099512 * 2.0**-40, variant="q")  # lock-step
     # row for row: the q node's step is Table I's dt_q40 (1.00000034 us), not 1 us
     assert len(run.x_m) == len(r.x_slider_m)
     assert np.max(np.abs(r.x_slider_m - run.x_m)) < 1e-12

@@ -126,3 +126,19 @@ def test_cli_variant_q():
     )
     assert p.returncode == 0, p.stderr
     assert '"variant": "q"' in p.stdout
+
+
+def test_q_takes_a_sampled_drive_one_sample_a_step():
+    # the q core fed the player's samples (a q node's lock-step) is the player's run where no
+    # corner falls inside a step: one period of the paper's drive, its corners within 2^-10 of a
+    # step of q's grid
+    w = Sawtooth(cycles=1)
+    r = simulate(w, variant="q")
+    dt_q = 1099512 * 2.0**-40  # Table I's dt_q40
+    s = simulate(drive_v=r.drive_v, drive_interval_s=dt_q, variant="q")
+    assert np.array_equal(s.x_slider_m, r.x_slider_m) and np.array_equal(s.force_n, r.force_n)
+    # at another interval the samples would not be one a step: refused, naming the step
+    with pytest.raises(ValueError, match="one sample a step: drive_interval_s must be its step"):
+        simulate(drive_v=r.drive_v, drive_interval_s=1e-6 * 1.01, variant="q")
+    with pytest.raises(ValueError, match="hold_s must be 0"):
+        simulate(drive_v=r.drive_v, drive_interval_s=dt_q, variant="q", hold_s=1e-3)
