@@ -6,6 +6,7 @@
 
 #include "ss_actuator_q.h"
 
+/* clang-format off */
 #define SS_BENCH_Q_LS_CONFIG \
 { \
     .dt_q40 = 1649268, \
@@ -47,5 +48,6 @@
     .contact_lag_q30 = 1830243, \
     .rod_w2dt2_q28 = 114207163, \
 }
+/* clang-format on */
 
 #endif /* SS_BENCH_Q_CONFIG_H */
