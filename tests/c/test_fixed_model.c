@@ -134,6 +134,15 @@ static void test_converter_names_bad_fields(void **unused)
     assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "kick_slider_q40");
     assert_int_equal(ss_actuator_config_check_q(NULL, &bad), SS_ERR_NULL);
+    /* the corner's series holds to (w dt)^2 = 1; the converter writes 0 (the chord) past it */
+    t = ss_actuator_config_table1_q();
+    t.rod_w2dt2_q28 = (1 << 28) + 1;
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "rod_w2dt2_q28");
+    c = ok;
+    c.dt_s = 3e-6f; /* (w dt)^2 = 1.7 for Table I's rod */
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_OK);
+    assert_int_equal(q.rod_w2dt2_q28, 0);
     /* the step's reciprocal must be the step's, and the step long enough for it to fit 31 bits */
     t = ss_actuator_config_table1_q();
     t.inv_dt_q47 += 1;
