@@ -414,14 +414,15 @@ def _setup(
     if variant == "q":
         if heat0_j != 0.0:
             raise ValueError("the q variant has no thermal_drift (heat0_j must be 0)")
-        q_dt_s = N.config_to_q(cfg).dt_q40 * 2.0**-40
-        if drive_v is not None and hold_s != 0.0:
-            raise ValueError("the q variant holds no sampled drive (hold_s must be 0)")
-        if drive_v is not None and not math.isclose(drive_interval_s or 0.0, q_dt_s, rel_tol=1e-6):
-            raise ValueError(
-                f"the q variant takes a sampled drive one sample a step: drive_interval_s must be "
-                f"its step, {q_dt_s!r} s, got {drive_interval_s!r}"
-            )
+        if drive_v is not None:
+            if hold_s != 0.0:
+                raise ValueError("the q variant holds no sampled drive (hold_s must be 0)")
+            q_dt_s = N.config_to_q(cfg).dt_q40 * 2.0**-40
+            if not math.isclose(drive_interval_s or 0.0, q_dt_s, rel_tol=1e-6):
+                raise ValueError(
+                    f"the q variant takes a sampled drive one sample a step: drive_interval_s "
+                    f"must be its step, {q_dt_s!r} s, got {drive_interval_s!r}"
+                )
         if x0_m != 0.0:
             raise ValueError("the q variant starts the slider at 0 (x0_m must be 0)")
     return _Setup(

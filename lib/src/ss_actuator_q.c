@@ -300,14 +300,9 @@ SS_FORCE_INLINE ss_status_t step(const ss_actuator_config_q_t *cfg, ss_actuator_
     int32_t x_pc = 0;
     int64_t slew = cfg->effects.slew_q24;
     if (corner) {
-        int64_t amp_c = (int64_t)corner_q16 * 256;
-        if (slew != 0) {
-            const int64_t slew_1 = ss_shr_round(slew * corner_frac_q30, 30);
-            amp_c = st->amp_q24 + ss_clamp64(amp_c - st->amp_q24, -slew_1, slew_1);
-            st->amp_q24 = amp_c;
-            slew -= slew_1;
-        }
-        x_pc = piezo_at_q40(cfg, st, strain_q40(cfg, ss_sat32(ss_shr_round(amp_c, 8))));
+        const int64_t slew_1 = ss_shr_round(slew * corner_frac_q30, 30); /* 0 without a limit */
+        x_pc = piezo_strain_q40(cfg, st, corner_q16, slew_1);
+        slew -= slew_1;
     }
     const int64_t v_rel_start = (int64_t)st->v_rod_q28 - st->v_slider_q28;
     kick(cfg, st);
