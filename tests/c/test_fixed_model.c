@@ -769,6 +769,74 @@ static void test_q_waveform_corners(void **unused)
 }
 
 /* The phase accumulator: period boundaries at the exact step, shape as the float sawtooth. */
+/* The sawtooth's value by 64-bit division, as the player computed it before its division became a
+ * reciprocal and a remainder: the player must give these bits exactly. */
+static int32_t sawtooth_by_division(const ss_waveform_config_q_t *cfg, uint32_t phase_q32)
+{
+    const uint64_t one = (uint64_t)1 << 32;
+    const uint64_t r = cfg->rise_q32;
+    const uint64_t p = (cfg->direction < 0) ? one - phase_q32 : phase_q32;
+    const uint64_t a = (cfg->amplitude_q16 < 0) ? (uint64_t)0 - (uint64_t)(int64_t)cfg->amplitude_q16
+                                                : (uint64_t)cfg->amplitude_q16;
+    const uint64_t num = (p < r) ? a * p : a * (one - p);
+    const uint64_t den = (p < r) ? r : one - r;
+    const int64_t mag = (int64_t)((num + den / 2u) / den);
+    const int64_t v = (int64_t)cfg->offset_q16 + ((cfg->amplitude_q16 < 0) ? -mag : mag);
+    return (v > INT32_MAX) ? INT32_MAX : (v < INT32_MIN) ? INT32_MIN : (int32_t)v;
+}
+
+static uint32_t xorshift32(uint32_t *s)
+{
+    *s ^= *s << 13;
+    *s ^= *s >> 17;
+    *s ^= *s << 5;
+    return *s;
+}
+
+static void test_q_sawtooth_without_division_is_exact(void **unused)
+{
+    (void)unused;
+    /* the divisor's extremes (a rise of 1, of 2^32 - 1, a divisor either side of 2^31, where the
+     * reciprocal takes it halved), the amplitude's (0, +-1, INT32_MIN, INT32_MAX), the phase's */
+    const uint32_t rises[] = {1u,          2u,          3u,          0x7fffffffu, 0x80000000u,
+                              0x80000001u, 0xfffffffeu, 0xffffffffu, 4080218880u};
+    const int32_t amps[] = {0, 1, -1, INT32_MIN, INT32_MAX, 100 * 65536, -37 * 65536};
+    const uint32_t phases[] = {0u,          1u,          2u,          0x7fffffffu, 0x80000000u,
+                               0xfffffffeu, 0xffffffffu, 4080218879u, 4080218880u, 4080218881u};
+    long checked = 0;
+    for (size_t i = 0; i < sizeof rises / sizeof rises[0]; ++i) {
+        for (size_t j = 0; j < sizeof amps / sizeof amps[0]; ++j) {
+            for (int dir = -1; dir <= 1; dir += 2) {
+                ss_waveform_config_q_t w = ss_waveform_sawtooth_q(1000000u, amps[j], 0, rises[i], dir, 1u);
+                for (size_t k = 0; k < sizeof phases / sizeof phases[0]; ++k) {
+                    assert_int_equal(ss_sawtooth_at_phase_q(&w, phases[k]),
+                                     sawtooth_by_division(&w, phases[k]));
+                    ++checked;
+                }
+                /* the phase just either side of the corner */
+                for (int64_t dp = -2; dp <= 2; ++dp) {
+                    const uint32_t ph = (uint32_t)((int64_t)rises[i] + dp);
+                    assert_int_equal(ss_sawtooth_at_phase_q(&w, ph), sawtooth_by_division(&w, ph));
+                    ++checked;
+                }
+            }
+        }
+    }
+    /* and random configurations and phases, the offset included */
+    uint32_t seed = 0x2545f491u;
+    for (int n = 0; n < 200000; ++n) {
+        const uint32_t rise = xorshift32(&seed) | 1u;
+        const int32_t amp = (int32_t)xorshift32(&seed) >> (xorshift32(&seed) % 24u);
+        const int32_t off = (int32_t)xorshift32(&seed) >> 8;
+        const int32_t dir = (xorshift32(&seed) & 1u) ? 1 : -1;
+        ss_waveform_config_q_t w = ss_waveform_sawtooth_q(1000000u, amp, off, rise, dir, 1u);
+        const uint32_t ph = xorshift32(&seed);
+        assert_int_equal(ss_sawtooth_at_phase_q(&w, ph), sawtooth_by_division(&w, ph));
+        ++checked;
+    }
+    print_message("sawtooth by reciprocal and remainder: %ld values, each the division's\n", checked);
+}
+
 static void test_q_waveform(void **unused)
 {
     (void)unused;
@@ -890,6 +958,7 @@ int main(void)
         cmocka_unit_test(test_q_rest_stays_at_rest),
         cmocka_unit_test(test_q_run_matches_manual_steps),
         cmocka_unit_test(test_q_waveform),
+        cmocka_unit_test(test_q_sawtooth_without_division_is_exact),
         cmocka_unit_test(test_q_waveform_corners),
         cmocka_unit_test(test_q_actuator_steps_match_float),
         cmocka_unit_test(test_q_effects_steps_match_float),
