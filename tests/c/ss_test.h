@@ -19,4 +19,13 @@
         }                                                                                                    \
     } while (0)
 
+/* A reproducible 64-bit xorshift stream for the randomised checks (x != 0 in, never 0 out) */
+static inline uint64_t ss_test_xorshift(uint64_t *x)
+{
+    *x ^= *x << 13;
+    *x ^= *x >> 7;
+    *x ^= *x << 17;
+    return *x;
+}
+
 #endif

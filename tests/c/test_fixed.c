@@ -12,14 +12,6 @@ static void test_sat32(void **unused)
     assert_int_equal(ss_sat32(-42), -42);
 }
 
-static uint64_t xorshift(uint64_t *x)
-{
-    *x ^= *x << 13;
-    *x ^= *x >> 7;
-    *x ^= *x << 17;
-    return *x;
-}
-
 /* round(a b / 2^s) in two 32 x 32 products, against 128-bit arithmetic: at most 1 off (its one
  * inner rounding), over the stated operand ranges. */
 static void test_mul_shr_round_wide(void **unused)
@@ -28,10 +20,11 @@ static void test_mul_shr_round_wide(void **unused)
     uint64_t r = 88172645463325252ull;
     int64_t worst = 0;
     for (int i = 0; i < 200000; ++i) {
-        const int64_t a = (int64_t)(xorshift(&r) >> 2) * ((i & 1) ? 1 : -1) >> (xorshift(&r) % 40);
-        const int32_t b =
-            (int32_t)((int64_t)(xorshift(&r) >> 33) * ((i & 2) ? 1 : -1) >> (xorshift(&r) % 20));
-        const int s = 32 + (int)(xorshift(&r) % 31);
+        const int64_t a =
+            (int64_t)(ss_test_xorshift(&r) >> 2) * ((i & 1) ? 1 : -1) >> (ss_test_xorshift(&r) % 40);
+        const int32_t b = (int32_t)((int64_t)(ss_test_xorshift(&r) >> 33) * ((i & 2) ? 1 : -1) >>
+                                    (ss_test_xorshift(&r) % 20));
+        const int s = 32 + (int)(ss_test_xorshift(&r) % 31);
         const __int128 p = (__int128)a * b + ((__int128)1 << (s - 1));
         const __int128 q = (p >= 0) ? p >> s : -((-p + (((__int128)1 << s) - 1)) >> s); /* floor */
         const int64_t d = ss_mul_shr_round_wide(a, b, s) - (int64_t)q;
@@ -68,7 +61,8 @@ static void test_reciprocal_mantissa(void **unused)
     worst = fmax(worst, reciprocal_error(INT32_MAX));
     uint64_t r = 1181783497276652981ull;
     for (int i = 0; i < 200000; ++i) {
-        const uint32_t d = (uint32_t)(xorshift(&r) >> (33 + xorshift(&r) % 31)) + 1u; /* [1, 2^31) */
+        const uint32_t d =
+            (uint32_t)(ss_test_xorshift(&r) >> (33 + ss_test_xorshift(&r) % 31)) + 1u; /* [1, 2^31) */
         int sh = 0;
         assert_true(ss_reciprocal_mantissa_q(d, &sh) >= ((int32_t)1 << 30));
         if ((d & (d - 1u)) != 0u) {
@@ -94,9 +88,9 @@ static void test_mul_recip(void **unused)
     (void)unused;
     uint64_t r = 2463534242ull;
     for (int i = 0; i < 200000; ++i) {
-        const int32_t a = (int32_t)(xorshift(&r) >> 32);
-        const int32_t m = (int32_t)(xorshift(&r) >> 33);
-        const int s = 1 + (int)(xorshift(&r) % 62);
+        const int32_t a = (int32_t)(ss_test_xorshift(&r) >> 32);
+        const int32_t m = (int32_t)(ss_test_xorshift(&r) >> 33);
+        const int s = 1 + (int)(ss_test_xorshift(&r) % 62);
         const __int128 p = (__int128)a * m;
         const __int128 mag = ((p < 0 ? -p : p) + ((__int128)1 << (s - 1))) >> s;
         assert_true(ss_mul_recip_q(a, m, s) == (int64_t)(p < 0 ? -mag : mag));
@@ -110,9 +104,9 @@ static void test_mul_shr_round_u49(void **unused)
     uint64_t r = 88172645463325252ull;
     int64_t worst = 0;
     for (int i = 0; i < 200000; ++i) {
-        const uint64_t a = xorshift(&r) >> (15 + xorshift(&r) % 49); /* below 2^49 */
-        const int32_t m = (int32_t)(xorshift(&r) >> 33);
-        const int s = 18 + (int)(xorshift(&r) % 45);
+        const uint64_t a = ss_test_xorshift(&r) >> (15 + ss_test_xorshift(&r) % 49); /* below 2^49 */
+        const int32_t m = (int32_t)(ss_test_xorshift(&r) >> 33);
+        const int s = 18 + (int)(ss_test_xorshift(&r) % 45);
         const unsigned __int128 q =
             ((unsigned __int128)a * (uint64_t)m + ((unsigned __int128)1 << (s - 1))) >> s;
         const int64_t d = (int64_t)(ss_mul_shr_round_u49(a, m, s) - (uint64_t)q);
@@ -129,8 +123,8 @@ static void test_ratio_x65536_by_reciprocal(void **unused)
     (void)unused;
     uint64_t r = 5489ull;
     for (int i = 0; i < 200000; ++i) {
-        const uint64_t num = xorshift(&r) >> (15 + xorshift(&r) % 49);
-        const uint32_t den = (uint32_t)(xorshift(&r) >> (33 + xorshift(&r) % 20)) + 2049u;
+        const uint64_t num = ss_test_xorshift(&r) >> (15 + ss_test_xorshift(&r) % 49);
+        const uint32_t den = (uint32_t)(ss_test_xorshift(&r) >> (33 + ss_test_xorshift(&r) % 20)) + 2049u;
         int sh = 0;
         const int32_t m = ss_reciprocal_mantissa_q(den, &sh);
         const double exact = ldexp((double)num, 16) / den;
@@ -146,8 +140,8 @@ static void test_ratio_x65536_one_division(void **unused)
     (void)unused;
     uint64_t r = 2463534242ull;
     for (int i = 0; i < 200000; ++i) {
-        const uint64_t num = xorshift(&r) >> (17 + xorshift(&r) % 40);
-        const uint64_t den = (xorshift(&r) >> (33 + xorshift(&r) % 30)) + 1u;
+        const uint64_t num = ss_test_xorshift(&r) >> (17 + ss_test_xorshift(&r) % 40);
+        const uint64_t den = (ss_test_xorshift(&r) >> (33 + ss_test_xorshift(&r) % 30)) + 1u;
         const uint64_t q = num / den;
         const uint64_t two_step = (q << 16) + (((num % den) << 16) + den / 2) / den;
         assert_true(ss_ratio_x65536(num, den) == two_step);

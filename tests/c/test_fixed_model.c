@@ -768,7 +768,6 @@ static void test_q_waveform_corners(void **unused)
     assert_int_equal(ss_actuator_step_corner_q(&c, &st, 1 << 16, SS_Q30_ONE / 2, 2 << 16), SS_OK);
 }
 
-/* The phase accumulator: period boundaries at the exact step, shape as the float sawtooth. */
 /* The sawtooth's value by 64-bit division, as the player computed it before its division became a
  * reciprocal and a remainder: the player must give these bits exactly. */
 static int32_t sawtooth_by_division(const ss_waveform_config_q_t *cfg, uint32_t phase_q32)
@@ -783,14 +782,6 @@ static int32_t sawtooth_by_division(const ss_waveform_config_q_t *cfg, uint32_t 
     const int64_t mag = (int64_t)((num + den / 2u) / den);
     const int64_t v = (int64_t)cfg->offset_q16 + ((cfg->amplitude_q16 < 0) ? -mag : mag);
     return (v > INT32_MAX) ? INT32_MAX : (v < INT32_MIN) ? INT32_MIN : (int32_t)v;
-}
-
-static uint32_t xorshift32(uint32_t *s)
-{
-    *s ^= *s << 13;
-    *s ^= *s >> 17;
-    *s ^= *s << 5;
-    return *s;
 }
 
 static void test_q_sawtooth_without_division_is_exact(void **unused)
@@ -823,20 +814,21 @@ static void test_q_sawtooth_without_division_is_exact(void **unused)
         }
     }
     /* and random configurations and phases, the offset included */
-    uint32_t seed = 0x2545f491u;
+    uint64_t seed = 0x2545f4914f6cdd1dull;
     for (int n = 0; n < 200000; ++n) {
-        const uint32_t rise = xorshift32(&seed) | 1u;
-        const int32_t amp = (int32_t)xorshift32(&seed) >> (xorshift32(&seed) % 24u);
-        const int32_t off = (int32_t)xorshift32(&seed) >> 8;
-        const int32_t dir = (xorshift32(&seed) & 1u) ? 1 : -1;
+        const uint32_t rise = (uint32_t)(ss_test_xorshift(&seed) >> 32) | 1u;
+        const int32_t amp = (int32_t)(ss_test_xorshift(&seed) >> 32) >> (ss_test_xorshift(&seed) % 24u);
+        const int32_t off = (int32_t)(ss_test_xorshift(&seed) >> 32) >> 8;
+        const int32_t dir = (ss_test_xorshift(&seed) & 1u) ? 1 : -1;
         ss_waveform_config_q_t w = ss_waveform_sawtooth_q(1000000u, amp, off, rise, dir, 1u);
-        const uint32_t ph = xorshift32(&seed);
+        const uint32_t ph = (uint32_t)(ss_test_xorshift(&seed) >> 32);
         assert_int_equal(ss_sawtooth_at_phase_q(&w, ph), sawtooth_by_division(&w, ph));
         ++checked;
     }
     print_message("sawtooth by reciprocal and remainder: %ld values, each the division's\n", checked);
 }
 
+/* The phase accumulator: period boundaries at the exact step, shape as the float sawtooth. */
 static void test_q_waveform(void **unused)
 {
     (void)unused;
