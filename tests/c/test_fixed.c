@@ -12,6 +12,44 @@ static void test_sat32(void **unused)
     assert_int_equal(ss_sat32(-42), -42);
 }
 
+/* The rounding shift's two forms (ARMv6-M takes one, the other targets the other) against
+ * floor((v + 2^(s-1)) / 2^s) in 128-bit arithmetic, for every shift (1 to 62): around 0 and the
+ * ties, the ends of the domain (|v| <= 2^63 - 2^s), and random words of every length. */
+static int64_t shr_round_exact(int64_t v, int s)
+{
+    const __int128 p = (__int128)v + ((__int128)1 << (s - 1));
+    return (int64_t)((p >= 0) ? p >> s : -((-p + (((__int128)1 << s) - 1)) >> s));
+}
+
+static void test_shr_round(void **unused)
+{
+    (void)unused;
+    uint64_t r = 88172645463325252ull;
+    for (int s = 1; s < 63; ++s) {
+        const int64_t half = (int64_t)1 << (s - 1);
+        const int64_t top = INT64_MAX - ((int64_t)1 << s) + 1; /* 2^63 - 2^s */
+        const int64_t three = (s < 62) ? 3 * half : half;      /* 3 x 2^61 is beyond int64 */
+        const int64_t edges[] = {-top, -top + 1, -three - 1, -three, -half - 1, -half, -half + 1,       -1,
+                                 0,    1,        half - 1,   half,   half + 1,  three, INT64_MAX - half};
+        for (size_t i = 0; i < sizeof edges / sizeof edges[0]; ++i) {
+            const int64_t want = shr_round_exact(edges[i], s);
+            if (ss_shr_round_by_sign(edges[i], s) != want || ss_shr_round_by_offset(edges[i], s) != want) {
+                fail_msg("s = %d, v = %lld: %lld and %lld, exact %lld", s, (long long)edges[i],
+                         (long long)ss_shr_round_by_sign(edges[i], s),
+                         (long long)ss_shr_round_by_offset(edges[i], s), (long long)want);
+            }
+        }
+        for (int i = 0; i < 20000; ++i) {
+            const uint64_t w = ss_test_xorshift(&r) >> (ss_test_xorshift(&r) % 64);
+            const int64_t v = (int64_t)(w >> 1) * ((i & 1) ? 1 : -1);
+            if (v <= top && v >= -top) {
+                const int64_t want = shr_round_exact(v, s);
+                assert_true(ss_shr_round_by_sign(v, s) == want && ss_shr_round_by_offset(v, s) == want);
+            }
+        }
+    }
+}
+
 /* round(a b / 2^s) in two 32 x 32 products, against 128-bit arithmetic: at most 1 off (its one
  * inner rounding), over the stated operand ranges. */
 static void test_mul_shr_round_wide(void **unused)
@@ -270,6 +308,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sat32),
+        cmocka_unit_test(test_shr_round),
         cmocka_unit_test(test_mul_shr_round_wide),
         cmocka_unit_test(test_velocity_by_reciprocal),
         cmocka_unit_test(test_ratio_x65536_one_division),
