@@ -7,6 +7,7 @@ at 0.125 us (it differs from 0.03125 us by at most 0.013 % per cycle on the wors
 With --variant q the fixed-point core runs the steps, against the same float reference.
 
     PYTHONPATH=hil .venv/bin/python bench/step_study.py [--steps-us 0.5,1,1.25,2] [--variant q]
+        [--models ls,lugre,gms]
 """
 
 from __future__ import annotations
@@ -37,10 +38,12 @@ def main() -> None:
     ap.add_argument(
         "--variant", choices=("f32", "q"), default="f32", help="the core that runs the steps"
     )
+    ap.add_argument("--models", default="ls,lugre", help="laws, comma-separated (ls, lugre, gms)")
     a = ap.parse_args()
+    models = a.models.split(",")
     dts = [float(x) * 1e-6 for x in a.steps_us.split(",")]
     worst: dict[tuple[str, float], tuple[float, str]] = {}
-    for model in ("ls", "lugre"):
+    for model in models:
         for f_hz, fall_s in DRIVES:
             for direction in (1, -1):
                 ref = steps(model, f_hz, direction, fall_s, REF_DT_S)
@@ -51,17 +54,19 @@ def main() -> None:
                     err = 100 * float(np.max(np.abs(s / ref[:n] - 1)))
                     if err > worst.get((model, dt), (-1.0, ""))[0]:
                         worst[(model, dt)] = (err, case)
+    names = {"ls": "LS", "lugre": "LuGre", "gms": "GMS"}
     print(
-        "| step (us) | steps to the 15 us fall | LS worst per-cycle error | where "
-        + "| LuGre | where |"
+        "| step (us) | steps to the 15 us fall | "
+        + " | ".join(f"{names.get(m, m)} worst per-cycle error | where" for m in models)
+        + " |"
     )
-    print("|---|---|---|---|---|---|")
+    print("|---|---|" + "---|---|" * len(models))
     for dt in dts:
         n_fall = 15e-6 / dt
         whole = abs(n_fall - round(n_fall)) < 1e-9
         fall = f"{n_fall:g}" if whole else f"{n_fall:.2f} (a corner inside a step)"
         cells = [f"{dt * 1e6:g}", fall]
-        for model in ("ls", "lugre"):
+        for model in models:
             err, case = worst[(model, dt)]
             cells += [f"{err:.3f} %", case]
         print("| " + " | ".join(cells) + " |")
