@@ -7,16 +7,20 @@ at 0.125 us (it differs from 0.03125 us by at most 0.013 % per cycle on the wors
 With --variant q the fixed-point core runs the steps, against the same float reference.
 
     PYTHONPATH=hil .venv/bin/python bench/step_study.py [--steps-us 0.5,1,1.25,2] [--variant q]
-        [--models ls,lugre,gms]
+        [--models ls,lugre,gms] [--param piezo_damping_kg_per_s=62 ...]
+
+--param sets an actuator parameter (ActuatorParams' names) for every run, reference included: an
+experiment on what limits the step (docs/model.md), not the criterion, which is Table I's.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 
 import numpy as np
 
-from stickslip.model import Sawtooth, simulate
+from stickslip.model import ActuatorParams, Sawtooth, simulate
 
 REF_DT_S = 0.125e-6
 CYCLES = {100.0: 4, 300.0: 6, 500.0: 8, 1000.0: 10, 2000.0: 12}  # about 40 ms of drive or more
@@ -25,11 +29,41 @@ DRIVES = [(f, 15e-6) for f in CYCLES] + [(500.0, 100e-6)]
 
 
 def steps(
-    model: str, f_hz: float, direction: int, fall_s: float, dt_s: float, variant: str = "f32"
+    model: str,
+    f_hz: float,
+    direction: int,
+    fall_s: float,
+    dt_s: float,
+    variant: str = "f32",
+    params: ActuatorParams | None = None,
 ) -> np.ndarray:
     w = Sawtooth(frequency_hz=f_hz, amplitude_v=100.0, direction=direction, cycles=CYCLES[f_hz])
-    r = simulate(w.with_fall_time(fall_s), model=model, dt_s=dt_s, decimation=1, variant=variant)
+    r = simulate(
+        w.with_fall_time(fall_s),
+        params=params,
+        model=model,
+        dt_s=dt_s,
+        decimation=1,
+        variant=variant,
+    )
     return r.per_cycle_steps()[1:]
+
+
+def parse_params(items: list[str]) -> ActuatorParams:
+    """Table I with NAME=VALUE overrides; a name ActuatorParams does not have is an error."""
+    fields = {f.name for f in dataclasses.fields(ActuatorParams)}
+    values: dict[str, float] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        if not sep or name not in fields:
+            raise SystemExit(
+                f"--param {item}: expected NAME=VALUE with NAME an ActuatorParams field"
+            )
+        try:
+            values[name] = float(value)
+        except ValueError:
+            raise SystemExit(f"--param {item}: {value!r} is not a number") from None
+    return dataclasses.replace(ActuatorParams(), **values)
 
 
 def main() -> None:
@@ -39,17 +73,19 @@ def main() -> None:
         "--variant", choices=("f32", "q"), default="f32", help="the core that runs the steps"
     )
     ap.add_argument("--models", default="ls,lugre", help="laws, comma-separated (ls, lugre, gms)")
+    ap.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
     a = ap.parse_args()
+    params = parse_params(a.param)
     models = a.models.split(",")
     dts = [float(x) * 1e-6 for x in a.steps_us.split(",")]
     worst: dict[tuple[str, float], tuple[float, str]] = {}
     for model in models:
         for f_hz, fall_s in DRIVES:
             for direction in (1, -1):
-                ref = steps(model, f_hz, direction, fall_s, REF_DT_S)
+                ref = steps(model, f_hz, direction, fall_s, REF_DT_S, params=params)
                 case = f"{f_hz:g} Hz {'fwd' if direction > 0 else 'rev'} {fall_s * 1e6:g} us"
                 for dt in dts:
-                    s = steps(model, f_hz, direction, fall_s, dt, a.variant)
+                    s = steps(model, f_hz, direction, fall_s, dt, a.variant, params)
                     n = len(s)  # a run that stops short of its drive's end has one cycle fewer
                     err = 100 * float(np.max(np.abs(s / ref[:n] - 1)))
                     if err > worst.get((model, dt), (-1.0, ""))[0]:
