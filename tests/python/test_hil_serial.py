@@ -267,11 +267,14 @@ def test_second_client_hears_the_nodes_own_reason(tcp_node):
 
 def test_a_long_run_that_streams_is_busy_not_lost(tcp_node):
     # telemetry renews the wait: a run longer than the reply timeout completes (it was reported
-    # as "no reply, lost"); 4 M unpaced steps take ~0.4-1 s here, the timeout is 0.05 s
+    # as "no reply, lost"); 8 M unpaced steps take ~0.7-2 s here, 4 x the 0.2 s timeout or more.
+    # A frame of 40 rows comes every 320 000 steps, some 30 ms; with both cores busy (diagnoses
+    # beside the tests) frames of 160 000 steps came up to 50 ms apart, so a timeout of 0.05 s
+    # failed where nothing was lost
     with NodeClient(tcp_node.url) as c:
-        c.load_waveform(Sawtooth(cycles=2000))
-        tel = c.run(4_000_000, decimation=4000, timeout_s=0.05)
-        assert len(tel.step) == 1000 and tel.step[-1] == 4_000_000
+        c.load_waveform(Sawtooth(cycles=4000))
+        tel = c.run(8_000_000, decimation=8000, timeout_s=0.2)
+        assert len(tel.step) == 1000 and tel.step[-1] == 8_000_000
 
 
 @pytest.mark.parametrize(
