@@ -160,18 +160,26 @@ SS_FORCE_INLINE const ss_friction_config_f32_t *friction_config(const ss_actuato
     return scaled;
 }
 
-/* One simulation's step (step()): the law's advance over the drift's relative displacement whole
- * under the step's friction fr, ... */
+/* GMS's advance over the drift's relative displacement: to the turning point first, where the
+ * motion turned inside the step (its elements keep LS's memory), then the rest. */
+SS_FORCE_INLINE void gms_advance(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                 const ss_friction_config_f32_t *fr, const carry_t *c)
+{
+    if (c->turn_m != 0.0f) {
+        ss_gms_advance_f32(fr, &st->fr.gms, c->turn_m, c->turn_frac * cfg->dt_s);
+    }
+    ss_gms_advance_f32(fr, &st->fr.gms, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * cfg->dt_s);
+}
+
+/* One simulation's step (step()): the law's advance over the drift's relative displacement (LS
+ * and GMS in two pieces where the motion turned inside the step) under the step's friction fr, ... */
 SS_FORCE_INLINE void friction_advance(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
                                       const ss_friction_config_f32_t *fr, const carry_t *c)
 {
     if (cfg->friction_model == SS_FRICTION_LUGRE) {
         ss_lugre_advance_f32(fr, &st->fr.lugre, c->dx_rel, cfg->dt_s);
     } else if (cfg->friction_model == SS_FRICTION_GMS) {
-        if (c->turn_m != 0.0f) {
-            ss_gms_advance_f32(fr, &st->fr.gms, c->turn_m, c->turn_frac * cfg->dt_s);
-        }
-        ss_gms_advance_f32(fr, &st->fr.gms, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * cfg->dt_s);
+        gms_advance(cfg, st, fr, c);
     } else {
         if (c->turn_m != 0.0f) {
             ss_ls_advance_f32(fr, &st->fr.ls, c->turn_m, c->turn_frac * cfg->dt_s);
@@ -205,10 +213,7 @@ SS_FORCE_INLINE void friction_begin(const ss_actuator_config_f32_t *cfg, ss_actu
         ss_lugre_advance_begin_f32(p->fr, c->dx_rel, cfg->dt_s, &p->lugre_slip);
         ss_lugre_force_begin_f32(p->fr, c->v_free, 1, &p->lugre_level);
     } else if (cfg->friction_model == SS_FRICTION_GMS) {
-        if (c->turn_m != 0.0f) {
-            ss_gms_advance_f32(p->fr, &st->fr.gms, c->turn_m, c->turn_frac * cfg->dt_s);
-        }
-        ss_gms_advance_f32(p->fr, &st->fr.gms, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * cfg->dt_s);
+        gms_advance(cfg, st, p->fr, c); /* whole here: GMS has no parts */
     } else {
         if (c->turn_m != 0.0f) { /* as friction_advance */
             ss_ls_advance_f32(p->fr, &st->fr.ls, c->turn_m, c->turn_frac * cfg->dt_s);
