@@ -5,8 +5,10 @@
 #include <stddef.h>
 
 #include "ss_check.h"
+#include "ss_exp_f32.h"
 #include "ss_friction_parts_f32.h"
 #include "ss_inline.h"
+#include "ss_trig_f32.h"
 
 ss_actuator_config_f32_t ss_actuator_config_table1_f32(void)
 {
@@ -76,7 +78,10 @@ ss_status_t ss_actuator_config_check_f32(const ss_actuator_config_f32_t *cfg, co
 }
 
 /* Exact flow of M e'' + c e' + k e = 0 over dt, as a 2x2 matrix on (e, e'). Under-, critically
- * and over-damped cases share one form with s(t) = sin(w t)/w, sinh(w t)/w or t. */
+ * and over-damped cases share one form with s(t) = sin(w t)/w, sinh(w t)/w or t. Init takes it over
+ * the step, a step that a drive's corner splits over each piece: the library's own exponential and
+ * sine (ss_exp_f32.h, ss_trig_f32.h), a few dozen instructions where newlib's take several hundred,
+ * and the same bits on every target. */
 static void rod_flow(const ss_actuator_config_f32_t *cfg, float dt, float phi[4])
 {
     const float k = cfg->piezo_stiffness_n_per_m;
@@ -88,17 +93,24 @@ static void rod_flow(const ss_actuator_config_f32_t *cfg, float dt, float phi[4]
     float si; /* s(dt) as above */
     if (wd2 > 0.0f) {
         const float wd = sqrtf(wd2);
-        co = cosf(wd * dt);
-        si = sinf(wd * dt) / wd;
+        float sn;
+        if (wd * dt < SS_TRIG_MAX_ARG) {
+            ss_sincos_f32(wd * dt, &sn, &co);
+        } else { /* a rod that rings more than 650 times a step: libm's reduction */
+            co = cosf(wd * dt);
+            sn = sinf(wd * dt);
+        }
+        si = sn / wd;
     } else if (wd2 < 0.0f) {
         /* over-damped: e^(-sigma t) cosh and sinh from the two real roots -sigma -+ w, never
          * cosh(w dt) itself (it overflows when a light, stiff, damped rod makes w dt > 89, and
-         * then inf x e^(-sigma dt) = inf x 0 is NaN). The slow root in a form without cancellation. */
+         * then inf x e^(-sigma dt) = inf x 0 is NaN). The slow root in a form without cancellation,
+         * and e_fast (e^(2 w dt) - 1) as -e_slow expm1(-2 w dt), which has none either. */
         const float w = sqrtf(-wd2);
-        const float e_slow = expf(-wn2 / (sigma + w) * dt);
-        const float e_fast = expf(-(sigma + w) * dt);
-        const float s =
-            (w * dt < 0.5f) ? e_fast * expm1f(2.0f * w * dt) / (2.0f * w) : (e_slow - e_fast) / (2.0f * w);
+        const float e_slow = ss_exp_neg_f32(wn2 / (sigma + w) * dt);
+        const float e_fast = ss_exp_neg_f32((sigma + w) * dt);
+        float e_2w;
+        const float s = -e_slow * ss_expm1_neg_f32(2.0f * w * dt, &e_2w) / (2.0f * w);
         const float c = 0.5f * (e_slow + e_fast);
         phi[0] = c + sigma * s;
         phi[1] = s;
@@ -109,7 +121,7 @@ static void rod_flow(const ss_actuator_config_f32_t *cfg, float dt, float phi[4]
         co = 1.0f;
         si = dt;
     }
-    const float e = expf(-sigma * dt);
+    const float e = ss_exp_neg_f32(sigma * dt);
     phi[0] = e * (co + sigma * si);
     phi[1] = e * si;
     phi[2] = -e * wn2 * si;
@@ -332,7 +344,7 @@ static void rod_drift(const ss_actuator_config_f32_t *cfg, const float phi[4], f
 }
 
 /* The drift of a step whose drive bends at corner_frac dt: the anchor's two straight pieces, each
- * with the rod's exact flow over its own length (two flow matrices: cos, sin, exp), and the
+ * with the rod's exact flow over its own length (two flow matrices by the own functions), and the
  * effects' drive advanced in the same two pieces. Returns the strain at the step's end. */
 static float drift_with_corner(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
                                float drive_v, float corner_frac, float corner_v)

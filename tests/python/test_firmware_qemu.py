@@ -77,21 +77,23 @@ def test_firmware_paced_run_counts_deadline_misses():
 
 
 # The float32 node's real-time step on a 168 MHz Cortex-M4F (docs/model.md, "Real time on the
-# target"): its paced free run of the paper's drive misses no deadline at it. The costliest steps
-# are those a drive's corner falls inside (two rod flows, libm's cosf, sinf and expf each): about
-# 1 590 instructions with LuGre or LS, against 700-900 for most others; LS's also takes the turn of
-# the relative motion inside it (two advances of its friction) in many of them at these steps.
+# target"): its paced free run of the paper's drive misses no deadline at it. Both laws hold 10 us
+# (bench/realtime_node.py: the first misses at 9.4 us under LS, at 9.2 us under LuGre, with a row
+# every 100 steps; with a row every 10, 9 us misses about one step in ten, the row's). The steps a
+# drive's corner falls inside take two rod flows; with newlib's cosf, sinf and expf they cost about
+# 1 590 instructions and set LS's step to 12 us, with the library's own functions (ss_trig_f32.h)
+# no more than the others.
 M4F_HZ = 168e6
-M4F_REAL_TIME_STEP_S = {"ls": 12e-6, "lugre": 10e-6}
+M4F_REAL_TIME_STEP_S = {"ls": 10e-6, "lugre": 10e-6}
 QEMU_SHIFT3_HZ = 125e6  # -icount shift=3: one instruction per 8 ns
 
 
 @pytest.mark.parametrize("law", ["ls", "lugre"])
 def test_firmware_keeps_real_time_at_its_step(law):
     # A model step of 10 us x 168 / 125 gives each slot at 125 MHz the 1 680 instructions a 168 MHz
-    # part has in 10 us (LS: 12 us, 2 016); the port's clock reads to the SysTick's 40 ns (5
-    # instructions), so a step late by more than that counts. Half the step is too short for the
-    # steps a corner falls inside (two a period): the test can fail.
+    # part has in 10 us; the port's clock reads to the SysTick's 40 ns (5 instructions), so a step
+    # late by more than that counts. Half the step is too short for the steps a corner falls inside
+    # (two a period): the test can fail.
     need_firmware("qemu-m4f")
     w = Sawtooth(cycles=10)  # the paper's drive, 20 ms
     slot_s = M4F_REAL_TIME_STEP_S[law] * M4F_HZ / QEMU_SHIFT3_HZ
@@ -106,14 +108,16 @@ def test_firmware_keeps_real_time_at_its_step(law):
         c.set("step_s", slot_s / 2)
         half = play(c, w, "free", 100, 1)
         assert half.telemetry.deadline_misses >= 2 * w.cycles
-    # the run is the library's at that step: bit for bit but where a corner inside a step takes
-    # cosf, sinf and expf from newlib, which differ from glibc's in the last bit for some arguments
-    # (docs/model.md); the slider then stays within 0.1 nm of the host's (measured: 2 pm)
-    r = simulate(w, model=law, dt_s=run.dt_s)
-    tel = run.telemetry
-    rows = n_steps // 10
-    assert len(tel.x_slider_m) == rows
-    assert np.max(np.abs(tel.x_slider_m - r.x_slider_m[10::10][:rows])) < 1e-10
+    # the run is the host node's at that step, bit for bit: the corners inside steps (the period is
+    # not a whole number of 13.44 us steps) take the library's own cosine, sine and exponential,
+    # which compute the same bits on the host and the target (libm's differ in the last bit)
+    with HostNode("pty") as h, NodeClient(h.url) as hc:
+        hc.set("friction_model", {"ls": 0.0, "lugre": 1.0}[law])
+        hc.set("step_s", slot_s)
+        host = play(hc, w, "free", 10, 0)
+    assert host.steps == n_steps
+    for field in ("x_rod_m", "x_slider_m", "friction_n"):
+        assert np.array_equal(getattr(run.telemetry, field), getattr(host.telemetry, field)), field
 
 
 def rows_of(c: NodeClient, drive: np.ndarray) -> list[tuple]:
