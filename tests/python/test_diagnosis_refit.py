@@ -1,14 +1,16 @@
-"""The pipeline's refit of a pair without a cause that is not there (_Session.without_absent), the
-one it took from its parent or its new one: when it applies, what it fits, and that it fits each
-set once."""
+"""The pipeline's refits: of a pair without a cause that is not there (_Session.without_absent),
+the one it took from its parent or its new one (when it applies, what it fits, and that it fits
+each set once), and the refinement of an accepted cause, whose values must stay in the range the
+guards checked (_refined)."""
 
 from __future__ import annotations
 
 from concurrent.futures import Future
+from dataclasses import replace
 
 from stickslip.diagnosis.fit import Evaluation, FitResult, Free, Model
 from stickslip.diagnosis.guards import FWD_SHARE, Verdict
-from stickslip.diagnosis.pipeline import Candidate, _Session
+from stickslip.diagnosis.pipeline import Candidate, _refined, _Session
 from stickslip.model import ActuatorParams, Effects
 
 NOMINAL = ActuatorParams.table1()
@@ -117,3 +119,28 @@ def test_no_refit_for_a_cause_the_grandparent_already_carries_or_without_a_grand
     )
     assert s.without_absent(three, two) is None
     assert ex.fits == []
+
+
+def test_a_refinement_that_leaves_the_physical_range_does_not_name_the_cause():
+    # clean GMS data 102 (independent generator): a base screened at 8.9 kHz and damping ratio
+    # 0.037 passed the guards, and its refinement went on to 5.2 kHz and 0.37, a damping no mount
+    # has (the catalog's range ends at 0.3); the recorder's "refinement" stays at the start
+    base = _cand(())
+    causes = ("base_compliance",)
+    for ratio, named in ((0.37, False), (0.05, True)):
+        s, ex = _session()
+        fx = replace(EFFECTS, base_mass_kg=0.058, base_freq_hz=5193.0, base_damping_ratio=ratio)
+        m = Model(NOMINAL, fx, causes=causes)
+        accepted = Candidate(
+            FitResult(Free((), causes), m, m.values(), 0.0, 0), Evaluation(0, 0, 1, 1), 0.0, base
+        )
+        accepted.verdict = Verdict()
+        refined = _refined(s, accepted, base)
+        assert len(ex.fits) == 1  # the refinement was fitted either way
+        if named:
+            assert refined is not None and refined.causes == causes
+            assert accepted.verdict.reasons == []
+        else:
+            assert refined is None
+            (why,) = accepted.verdict.reasons
+            assert "base_damping_ratio = 0.37 is outside its physical range" in why

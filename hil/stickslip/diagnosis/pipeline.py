@@ -1041,6 +1041,16 @@ def _refined(s: _Session, accepted: Candidate, chosen: Candidate) -> Candidate |
     refined.verdict = accepted.verdict
     if not _law_chosen_with_it(accepted):
         refined = _rechoose_law(s, refined)
+    assert accepted.verdict is not None  # judged before it was accepted
+    # the range guard holds for the values the report gives, not only the screened ones: a
+    # refinement may leave the basin the guards judged for another that absorbs the base law's
+    # misfit (clean GMS data 102: a base at 8.9 kHz, damping ratio 0.037, refined to 5.2 kHz and
+    # 0.37, the calibrated law's 143 nm down to 35 nm; with the float bits of a corner step moved
+    # by an ulp, main's refinement had stayed in the first basin and failed the share guard)
+    problems = range_problems(refined.fit, refined.causes)
+    if problems:
+        accepted.verdict.reasons.append(f"refined, {'; '.join(problems)}")
+        return None
     if before.causes or _explained_enough(refined, s.sensor_noise_m):
         return refined
     share = share_removed(s.without_first(refined, before), refined.mse_over_noise)
@@ -1058,7 +1068,6 @@ def _refined(s: _Session, accepted: Candidate, chosen: Candidate) -> Candidate |
                 break
         if not weakness:
             return refined
-    assert accepted.verdict is not None  # judged before it was accepted
     accepted.verdict.reasons.append(
         f"refined, {weakness}"
         if weakness
@@ -1206,6 +1215,11 @@ def _rechoose_law(s: _Session, chosen: Candidate) -> Candidate:
     if not futs:
         return chosen
     others = sorted((s.cand(*_fv(fu), parent=chosen.parent) for fu in futs), key=lambda c: c.score)
+    # a law whose fit puts a cause out of its range is not an explanation (the guard _refined
+    # applies to what it returns would refuse the cause for the law's sake)
+    others = [c for c in others if not range_problems(c.fit, c.causes)]
+    if not others:
+        return chosen
     best = others[0]
     if not s.better(best, chosen):
         return chosen
