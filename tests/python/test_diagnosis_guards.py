@@ -97,6 +97,25 @@ def test_share_of_the_error_above_the_noise():
     assert share_removed(1.0, 0.9) == 0.0  # nothing above the noise to remove
 
 
+def test_a_near_tie_between_calibrations_is_not_clearly_worse():
+    from stickslip.diagnosis.fit import Evaluation
+    from stickslip.diagnosis.pipeline import Candidate, clearly_worse
+
+    def cal(rmse_over_noise: float) -> Candidate:
+        n = 1000
+        ev = Evaluation(0.0, 0.0, rmse_over_noise**2 * n, n)
+        return Candidate(None, ev, 0.0)  # type: ignore[arg-type]  # no fit: only its error
+
+    # independent load seed 102: LS and LuGre calibrated to 791 and 787 nm (0.9 nm noise), and
+    # to 796 and 801 nm with the rod's flow an ulp off: a tie either way, each law screened
+    ls, lugre = cal(791 / 0.9), cal(787 / 0.9)
+    assert not clearly_worse(ls, lugre) and not clearly_worse(lugre, ls)
+    # a law whose error above the noise the other removes a quarter of is clearly worse
+    assert clearly_worse(cal(100.0), cal(86.0))  # 26 % of the mean square above the noise
+    assert not clearly_worse(cal(100.0), cal(88.0))  # 23 %
+    assert not clearly_worse(cal(86.0), cal(100.0))
+
+
 def test_cross_validation_needs_most_families_and_a_total_gain():
     good = Verdict(folds=[FoldResult(f"f{i}", 500.0, 100.0, 100) for i in range(5)])
     judge_cv(good)
