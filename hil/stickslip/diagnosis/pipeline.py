@@ -494,10 +494,10 @@ class _Session:
         # than LS's, the load screened on it and found; with the rod's flow an ulp off, 0.5 %
         # worse, the screen on LS alone led to a false asymmetric friction): on a law that
         # misfits the data every cause's probe competes with the law's own error (independent
-        # asymmetry seed 104: on the LS calibration, 323 nm, six
-        # causes screened at 60-87 % and the asymmetry that was there did not rank; fitted under
-        # LuGre it reaches 3.8 nm). A cause then keeps its better prediction of the two, and is
-        # fitted from that law's calibration. Not the causes fitted from nominal (their own path).
+        # asymmetry seed 104: on the LS calibration, 323 nm, six causes screened at 60-87 % and
+        # the asymmetry that was there did not rank; fitted under LuGre it reaches 3.8 nm). A
+        # cause then keeps its better prediction of the two, and is fitted from that law's
+        # calibration. Not the causes fitted from nominal (their own path).
         others = [
             o
             for law, o in self.calibrated.items()
