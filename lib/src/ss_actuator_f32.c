@@ -183,6 +183,16 @@ SS_FORCE_INLINE void gms_advance(const ss_actuator_config_f32_t *cfg, ss_actuato
     ss_gms_advance_f32(fr, &st->fr.gms, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * cfg->dt_s);
 }
 
+/* LS's advance to the turning point, where the motion turned inside the step; the rest of the
+ * step follows whole (friction_advance) or in parts (friction_begin, friction_end). */
+SS_FORCE_INLINE void ls_advance_to_turn(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                        const ss_friction_config_f32_t *fr, const carry_t *c)
+{
+    if (c->turn_m != 0.0f) {
+        ss_ls_advance_f32(fr, &st->fr.ls, c->turn_m, c->turn_frac * cfg->dt_s);
+    }
+}
+
 /* One simulation's step (step()): the law's advance over the drift's relative displacement (LS
  * and GMS in two pieces where the motion turned inside the step) under the step's friction fr, ... */
 SS_FORCE_INLINE void friction_advance(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
@@ -193,9 +203,7 @@ SS_FORCE_INLINE void friction_advance(const ss_actuator_config_f32_t *cfg, ss_ac
     } else if (cfg->friction_model == SS_FRICTION_GMS) {
         gms_advance(cfg, st, fr, c);
     } else {
-        if (c->turn_m != 0.0f) {
-            ss_ls_advance_f32(fr, &st->fr.ls, c->turn_m, c->turn_frac * cfg->dt_s);
-        }
+        ls_advance_to_turn(cfg, st, fr, c);
         ss_ls_advance_f32(fr, &st->fr.ls, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * cfg->dt_s);
     }
 }
@@ -227,9 +235,7 @@ SS_FORCE_INLINE void friction_begin(const ss_actuator_config_f32_t *cfg, ss_actu
     } else if (cfg->friction_model == SS_FRICTION_GMS) {
         gms_advance(cfg, st, p->fr, c); /* whole here: GMS has no parts */
     } else {
-        if (c->turn_m != 0.0f) { /* as friction_advance */
-            ss_ls_advance_f32(p->fr, &st->fr.ls, c->turn_m, c->turn_frac * cfg->dt_s);
-        }
+        ls_advance_to_turn(cfg, st, p->fr, c);
         ss_ls_advance_begin_f32(p->fr, &st->fr.ls, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * cfg->dt_s,
                                 &p->ls_branch);
     }
