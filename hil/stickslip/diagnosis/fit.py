@@ -48,7 +48,11 @@ MIN_STEP_OVER_NOISE = 50.0  # a run steps when its mean step is above this x noi
 # MAX_DT_S), and a derivative off by the 2 us step's 0.3 % per cycle leaves the optimum where it
 # was; each column then costs half. Not where a base resonance rings: its phase error over a run
 # at 2 us bent the Jacobian enough to stop a base-compliance fit at 59 nm instead of 25 nm
-# (BENCHMARKS.md, "Faster, and a stricter word on unexplained data").
+# (BENCHMARKS.md, "Faster, and a stricter word on unexplained data"). Nor in a polish (fit with
+# polish=True, a refit from its own optimum): there the 2 us model's valley lies beside the 1 us
+# one, and in a narrow valley its steps lead off the floor (own slew + thermal drift 101: the
+# diagnosis ended at 7.0 x the noise, its thermal drift stopped in such a valley; with every
+# polish's Jacobian at 1 us, 1.00 x).
 JAC_MAX_DT_S = 2e-6
 H_THETA = 1e-3  # finite-difference step in theta (0.1 % of a scale, 1e-3 ref of a signed value)
 # A parameter whose standard error exceeds this share of its value (of its reference, for signed
@@ -685,6 +689,7 @@ def fit(
     residual to get near, then the absolute position (what the validation measures)."""
     p = _Problem(runs, nominal, start, free, noise_m)
     if polish:
+        p.jac_dt = MAX_DT_S  # near an optimum, the simulated model's own Jacobian (JAC_MAX_DT_S)
         return p.second_stage(p.theta0, max_nfev)
     theta, _ = p.first_stage(max_nfev, grid)
     return p.second_stage(theta, second_stage_nfev(max_nfev))
