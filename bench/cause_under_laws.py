@@ -33,8 +33,8 @@ from stickslip.diagnosis import fit as F
 from stickslip.diagnosis.calibrate import calibrate
 from stickslip.diagnosis.catalog import CAUSES
 from stickslip.diagnosis.guards import share_removed
-from stickslip.diagnosis.pipeline import FIT_NFEV
 from stickslip.diagnosis.screen import probe_points, probe_residual
+from stickslip.diagnosis.session import FIT_NFEV
 
 
 def fit_under(a, ds, train, val, noise, cal, law: str, origin: str):

@@ -28,6 +28,7 @@ import diagnosis_profile as P
 
 from stickslip import _native as N
 from stickslip.diagnosis import pipeline as PL
+from stickslip.diagnosis import session as SE
 
 
 class StepCounter:
@@ -59,7 +60,7 @@ class StepCounter:
 def tag_batches() -> None:
     """Mark each candidate with the batch of fits it came from (0: the first of its parent's
     screen, 1: the next, ...)."""
-    fit_pending = PL._Session.fit_pending
+    fit_pending = SE.Session.fit_pending
 
     def tagged(self, parent):
         calls = self.__dict__.setdefault("_batches", collections.Counter())
@@ -68,10 +69,10 @@ def tag_batches() -> None:
         out = fit_pending(self, parent)
         for i, c in enumerate(out):
             c.batch = batch
-            c.rank = batch * PL.TOP_FIT + i  # among the causes its screen found promising
+            c.rank = batch * SE.TOP_FIT + i  # among the causes its screen found promising
         return out
 
-    PL._Session.fit_pending = tagged
+    SE.Session.fit_pending = tagged
 
 
 def stage_of(msg: str) -> str:

@@ -25,6 +25,7 @@ from stickslip import _native as N
 from stickslip import dataset as D
 from stickslip.diagnosis import fit as F
 from stickslip.diagnosis import pipeline as PL
+from stickslip.diagnosis import session as SE
 from stickslip.diagnosis.guards import share_removed
 
 
@@ -82,14 +83,14 @@ def main() -> int:
 
     F.predict_all = counted  # residuals() and evaluate() look it up at call time
     screens: list[tuple[str, list]] = []
-    screen = PL._Session.screen
+    screen = SE.Session.screen
 
     def screen_logged(self, parent, causes):
         out = screen(self, parent, causes)
         screens.append(("+".join(parent.causes) or parent.law, parent.mse_over_noise, out))
         return out
 
-    PL._Session.screen = screen_logged
+    SE.Session.screen = screen_logged
     # how each least-squares solve ended: scipy's status 0 is its evaluation budget, 1-4 a
     # tolerance (per stage: the first's tolerance is 1e-3, the second's 1e-5)
     ends: collections.Counter[str] = collections.Counter()

@@ -26,14 +26,15 @@ import time
 from dataclasses import replace
 
 import stickslip.diagnosis.pipeline as P
+import stickslip.diagnosis.session as SE
 from stickslip.diagnosis import fit as F
 from stickslip.diagnosis.screen import predicted_share
 
-_ORIG = (P._Session.extend, P._Session.judged, P._rechoose_law)
+_ORIG = (SE.Session.extend, SE.Session.judged, P._rechoose_law)
 
 
 def install(log: dict, first_round: bool = False) -> None:
-    extend, judged, rechoose = P._Session.extend, P._Session.judged, P._rechoose_law
+    extend, judged, rechoose = SE.Session.extend, SE.Session.judged, P._rechoose_law
 
     def logged_extend(self, parent, causes):
         out = extend(self, parent, causes)
@@ -72,7 +73,7 @@ def install(log: dict, first_round: bool = False) -> None:
             if law != chosen.law:
                 m = s.at_nominal(replace(chosen.fit.model, law=law))
                 free = F.Free(s.free_base[law], chosen.causes)
-                _, cost = F.first_stage(s.train, s.nominal, m, free, s.noise_m, P.FIT_NFEV, False)
+                _, cost = F.first_stage(s.train, s.nominal, m, free, s.noise_m, SE.FIT_NFEV, False)
                 ratios[law] = cost / own
         out = rechoose(s, chosen)
         log["rechoose"].append(
@@ -80,7 +81,7 @@ def install(log: dict, first_round: bool = False) -> None:
         )
         return out
 
-    P._Session.extend, P._Session.judged = logged_extend, logged_judged
+    SE.Session.extend, SE.Session.judged = logged_extend, logged_judged
     P._rechoose_law = logged_rechoose
 
 
@@ -93,7 +94,7 @@ def main() -> int:
         d = P.diagnose(path)
         row = {"dataset": path, "causes": list(d.causes), "wall_s": time.perf_counter() - t0}
         print(json.dumps({**row, **log}, default=float), flush=True)
-        P._Session.extend, P._Session.judged = _ORIG[:2]
+        SE.Session.extend, SE.Session.judged = _ORIG[:2]
         P._rechoose_law = _ORIG[2]
     return 0
 

@@ -23,7 +23,8 @@ import pytest
 from stickslip import synth
 from stickslip.dataset import load
 from stickslip.diagnosis.catalog import CAUSE_PARAMS, CAUSES, LAWS
-from stickslip.diagnosis.pipeline import EXPLAINED_RMSE_OVER_NOISE, diagnose, split_runs
+from stickslip.diagnosis.evidence import EXPLAINED_RMSE_OVER_NOISE
+from stickslip.diagnosis.pipeline import diagnose, split_runs
 
 SEED = 7
 

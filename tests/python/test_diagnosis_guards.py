@@ -23,8 +23,8 @@ from stickslip.diagnosis.guards import (
     range_problems,
     share_removed,
 )
-from stickslip.diagnosis.pipeline import _Session
 from stickslip.diagnosis.screen import Screened, predicted_share
+from stickslip.diagnosis.session import Session
 from stickslip.model import ActuatorParams, Effects
 
 
@@ -98,8 +98,9 @@ def test_share_of_the_error_above_the_noise():
 
 
 def test_a_near_tie_between_calibrations_is_not_clearly_worse():
+    from stickslip.diagnosis.evidence import clearly_worse
     from stickslip.diagnosis.fit import Evaluation
-    from stickslip.diagnosis.pipeline import Candidate, clearly_worse
+    from stickslip.diagnosis.result import Candidate
 
     def cal(rmse_over_noise: float) -> Candidate:
         n = 1000
@@ -242,7 +243,7 @@ def _screened(parent_mse: float, mse: float, n: int = 1000) -> Screened:
 
 
 def test_a_further_cause_is_fitted_only_if_screened_to_carry_half_its_final_share():
-    s = _Session(ActuatorParams.table1(), [], [], [], 2e-9, None, lambda _: None)
+    s = Session(ActuatorParams.table1(), [], [], [], 2e-9, None, lambda _: None)
     # the parent at 10 x the noise (mse 100 noise variances); staying unexplained, the final
     # check will demand 80 % of a cause, so the screen must predict 40 %
     assert predicted_share(_screened(100.0, 60.0)) == pytest.approx(40 / 99)

@@ -1,6 +1,6 @@
 """A cause fitted from the nominal parameters (base compliance) under the friction law whose first
 stage fits it best: which starts are submitted, which law is kept, and when the law need not be
-chosen again (pipeline._fit_under_best_law, _law_chosen_with_it; screen's per-law probe points)."""
+chosen again (session.fit_under_best_law, _law_chosen_with_it; screen's per-law probe points)."""
 
 from __future__ import annotations
 
@@ -10,10 +10,12 @@ from dataclasses import replace
 import numpy as np
 
 from stickslip.diagnosis import pipeline as PL
+from stickslip.diagnosis import session as SE
 from stickslip.diagnosis.fit import Evaluation, FitResult, Free, Model
 from stickslip.diagnosis.guards import FoldResult, Linearization, Verdict
-from stickslip.diagnosis.pipeline import Candidate, _Session
+from stickslip.diagnosis.result import Candidate
 from stickslip.diagnosis.screen import Screened, screen
+from stickslip.diagnosis.session import Session
 from stickslip.model import ActuatorParams, Effects
 
 NOMINAL = ActuatorParams.table1()
@@ -35,9 +37,9 @@ class _Recorder:
         return fu
 
 
-def _session() -> tuple[_Session, _Recorder, Candidate]:
+def _session() -> tuple[Session, _Recorder, Candidate]:
     ex = _Recorder()
-    s = _Session(NOMINAL, [], [], [], 2e-9, ex, lambda _: None)
+    s = Session(NOMINAL, [], [], [], 2e-9, ex, lambda _: None)
     s.laws = LAWS
     for law in LAWS:
         s.held[law], s.free_base[law] = (), ("normal_force_n", f"{law}_only")
@@ -61,7 +63,7 @@ def test_a_base_is_fitted_from_nominal_under_every_law():
         s.pending[id(base)] = (base, [_screened(from_nominal)])
         s.fit_pending(base)
         [(fn, args)] = ex.jobs
-        assert fn is PL._fit_under_best_law
+        assert fn is SE.fit_under_best_law
         starts = args[3]
         assert [m.law for m, _, _ in starts] == list(LAWS)
         for (m, free, grid), f_hz in zip(starts, (1e3, 2e3, 3e3)):
@@ -84,11 +86,11 @@ def test_the_law_whose_first_stage_fits_best_is_kept(monkeypatch):
         seen.append((m.law, float(theta[0])))
         return FitResult(free, m, m.values(), 0.0, 0)
 
-    monkeypatch.setattr(PL, "first_stage", first_stage)
-    monkeypatch.setattr(PL, "fit_from", fit_from)
-    monkeypatch.setattr(PL, "evaluate", lambda val, model, noise: Evaluation(0, 0, 1, 1))
+    monkeypatch.setattr(SE, "first_stage", first_stage)
+    monkeypatch.setattr(SE, "fit_from", fit_from)
+    monkeypatch.setattr(SE, "evaluate", lambda val, model, noise: Evaluation(0, 0, 1, 1))
     starts = [(Model(NOMINAL, law=law), Free((), ("base_compliance",)), True) for law in LAWS]
-    f, _ = PL._fit_under_best_law([], [], NOMINAL, starts, 2e-9)
+    f, _ = SE.fit_under_best_law([], [], NOMINAL, starts, 2e-9)
     assert seen == [("lugre", 3e5)]  # the second stage from LuGre's first-stage point only
     assert f.model.law == "lugre" and f.first_stage_costs == costs
 
@@ -150,7 +152,7 @@ def test_the_law_chosen_again_goes_on_only_under_laws_whose_first_stage_comes_ne
         seconds.append((m.law, float(theta[0])))
         return FitResult(free, m, m.values(), 0.0, 0), Evaluation(0, 0, 1e3, 1000)
 
-    monkeypatch.setattr(PL, "_fit_from_and_validate", second)
+    monkeypatch.setattr(PL, "fit_from_and_validate", second)
     s, _, _ = _session()
     s.ex = _Now()
     m = Model(BENT, Effects(load_n=0.1), law="lugre")
@@ -165,7 +167,7 @@ def test_the_law_chosen_again_goes_on_only_under_laws_whose_first_stage_comes_ne
     assert seconds == []
 
 
-def _calibrated(s: _Session, rmse_m: float = 200e-9) -> dict[str, Candidate]:
+def _calibrated(s: Session, rmse_m: float = 200e-9) -> dict[str, Candidate]:
     """Each law's calibration: BENT under it, rmse_m on the validation runs."""
     cal = {}
     for law in LAWS:
@@ -222,7 +224,7 @@ def test_a_strong_first_cause_that_fails_only_the_left_out_families_is_judged_un
         r, m = rmse[m.law], Model(m.params, m.effects, law=m.law, causes=free.causes)
         return FitResult(free, m, m.values(), r, 0), Evaluation(r, 0, (r / 2e-9) ** 2 * 1000, 1000)
 
-    monkeypatch.setattr(PL, "_fit_and_validate", fitted)
+    monkeypatch.setattr(SE, "fit_and_validate", fitted)
     s, _, _ = _session()
     s.ex = _Now()
     cal = _calibrated(s)
@@ -264,10 +266,10 @@ def test_first_causes_are_fitted_from_nominal_when_the_calibration_predicts_wors
         s.fit_pending(base)
         [(fn, args)] = ex.jobs
         if not bent:  # on the calibrated model, under its law
-            assert fn is PL._fit_and_validate
+            assert fn is SE.fit_and_validate
             assert args[3].params == BENT and args[3].law == "lugre"
             continue
-        assert fn is PL._fit_under_best_law
+        assert fn is SE.fit_under_best_law
         starts = args[3]
         assert [m.law for m, _, _ in starts] == list(LAWS)
         for m, free, grid in starts:
@@ -282,4 +284,4 @@ def test_first_causes_are_fitted_from_nominal_when_the_calibration_predicts_wors
     s.pending[id(child)] = (child, [load])
     s.fit_pending(child)
     [(fn, _)] = ex.jobs
-    assert fn is PL._fit_and_validate
+    assert fn is SE.fit_and_validate

@@ -1,4 +1,4 @@
-"""The pipeline's refits: of a pair without a cause that is not there (_Session.without_absent),
+"""The pipeline's refits: of a pair without a cause that is not there (Session.without_absent),
 the one it took from its parent or its new one (when it applies, what it fits, and that it fits
 each set once), and the refinement of an accepted cause, whose values must stay in the range the
 guards checked (_refined)."""
@@ -10,7 +10,9 @@ from dataclasses import replace
 
 from stickslip.diagnosis.fit import Evaluation, FitResult, Free, Model
 from stickslip.diagnosis.guards import FWD_SHARE, Verdict
-from stickslip.diagnosis.pipeline import Candidate, _refined, _Session
+from stickslip.diagnosis.pipeline import _refined
+from stickslip.diagnosis.result import Candidate
+from stickslip.diagnosis.session import Session
 from stickslip.model import ActuatorParams, Effects
 
 NOMINAL = ActuatorParams.table1()
@@ -42,9 +44,9 @@ def _cand(causes, parent=None, verdict=None) -> Candidate:
     return Candidate(f, Evaluation(0, 0, 1, 1), 0.0, parent, verdict)
 
 
-def _session() -> tuple[_Session, _Recorder]:
+def _session() -> tuple[Session, _Recorder]:
     ex = _Recorder()
-    s = _Session(NOMINAL, [], [], [], 2e-9, ex, lambda _: None)
+    s = Session(NOMINAL, [], [], [], 2e-9, ex, lambda _: None)
     s.held["ls"], s.free_base["ls"] = ("sigma2",), ("mu_s", "sigma0")
     return s, ex
 

@@ -14,6 +14,11 @@ import numpy as np  # noqa: E402
 
 from .. import dataset as D  # noqa: E402
 from .catalog import CAUSES, FRICTION_LAW, FRICTION_LAW_TEXT  # noqa: E402
+from .evidence import (  # noqa: E402
+    MIN_BIC_DROP,
+    MIN_MSE_DROP_OVER_NOISE,
+    UNEXPLAINED_RMSE_OVER_NOISE,
+)
 from .fit import FitRun, Model, cycle_steps, predict_all, prepare_all  # noqa: E402
 from .guards import (  # noqa: E402
     CV_MAX_HARM,
@@ -22,12 +27,7 @@ from .guards import (  # noqa: E402
     FWD_SHARE,
     UNEXPLAINED_FINAL_SHARE,
 )
-from .pipeline import (  # noqa: E402
-    MIN_BIC_DROP,
-    MIN_MSE_DROP_OVER_NOISE,
-    UNEXPLAINED_RMSE_OVER_NOISE,
-    Diagnosis,
-)
+from .result import Diagnosis  # noqa: E402
 
 
 def _signatures(runs: list[FitRun], model: Model) -> dict[str, np.ndarray]:

@@ -64,7 +64,7 @@ class Screened:
     law: str = ""  # ... and with this friction law
     # per friction law, the best point probed with the base parameters at nominal under it
     nominal_points: dict[str, dict[str, float]] = field(default_factory=dict)
-    # screened on this other law's calibration (the first round's, pipeline._Session.screen)
+    # screened on this other law's calibration (the first round's, session.Session.screen)
     on_calibrated: str = ""
 
 
