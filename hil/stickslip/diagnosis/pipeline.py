@@ -62,7 +62,7 @@ from .session import (
 
 MAX_CAUSES = 3
 TRY_PER_ROUND = 3  # candidates put to the guards per round, best ranked first
-MAX_EXTRA_BATCHES = 1  # ... and once more, the next TOP_FIT, when every one of those fails
+MAX_EXTRA_BATCHES = 1  # ... and once more, the next session.TOP_FIT, when every one of those fails
 # Models extended in the next round: the kept one and the runner-up of its round if that one
 # removes at least BEAM_SHARE of the mean-square error the kept one removes (the two compete for
 # the same residual) and its validation RMSE is within BEAM_RMSE_RATIO of the kept one's: while
@@ -70,6 +70,9 @@ MAX_EXTRA_BATCHES = 1  # ... and once more, the next TOP_FIT, when every one of 
 # against 0.40 um, tests/python/test_diagnosis.py), and only the load leads on to the pair. A
 # runner-up 12 x worse (100 against 8.4 nm beside a slew limit) removed most of the error too,
 # but is no rival: its round cost a fifth of that diagnosis' simulations.
+BEAM_WIDTH = 2
+BEAM_SHARE = 0.5
+BEAM_RMSE_RATIO = 3.0
 # A cause whose signature the friction law's own presliding form can make: a piezo's hysteresis is
 # a rate-independent loop between drive and position, and so is the contact's presliding under a
 # Maxwell-slip law. Named first in a model that stays unexplained (the law misfits the data), it
@@ -80,9 +83,6 @@ MAX_EXTRA_BATCHES = 1  # ... and once more, the next TOP_FIT, when every one of 
 # (docs/diagnosis.md, step 8).
 LAW_SENSITIVE = {"piezo_hysteresis": "hysteresis_alpha"}
 LAW_SPREAD_MAX = 2.0
-BEAM_WIDTH = 2
-BEAM_SHARE = 0.5
-BEAM_RMSE_RATIO = 3.0
 PHASE_BINS = 10  # residual summary: bins of the phase within the cycle
 
 

@@ -81,6 +81,8 @@ def fitted(fu: Future) -> tuple[FitResult, Evaluation]:
     return f, v
 
 
+# The jobs a Session submits: top-level functions of picklable arguments (runs as numpy arrays,
+# parameters as dataclasses), so that any concurrent.futures Executor runs them, Dask's too.
 def calibrate_and_validate(train, val, nominal, law, noise_m):
     f, held = calibrate(train, nominal, law, noise_m)
     return f, held, evaluate(val, f.model, noise_m)
