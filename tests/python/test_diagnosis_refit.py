@@ -1,13 +1,16 @@
 """The pipeline's refits: of a pair without a cause that is not there (Session.without_absent),
 the one it took from its parent or its new one (when it applies, what it fits, and that it fits
-each set once), and the refinement of an accepted cause, whose values must stay in the range the
-guards checked (_refined)."""
+each set once), the refinement of an accepted cause, whose values must stay in the range the
+guards checked (_refined), and the step a polish differentiates at."""
 
 from __future__ import annotations
 
 from concurrent.futures import Future
 from dataclasses import replace
 
+import numpy as np
+
+from stickslip.diagnosis import fit as F
 from stickslip.diagnosis.fit import Evaluation, FitResult, Free, Model
 from stickslip.diagnosis.guards import FWD_SHARE, Verdict
 from stickslip.diagnosis.pipeline import _refined
@@ -146,3 +149,33 @@ def test_a_refinement_that_leaves_the_physical_range_does_not_name_the_cause():
             assert refined is None
             (why,) = accepted.verdict.reasons
             assert "base_damping_ratio = 0.37 is outside its physical range" in why
+
+
+def test_a_polish_differentiates_at_the_models_own_step(monkeypatch):
+    """Near an optimum a coarser model's valley lies beside the fitted one (own slew + thermal
+    drift 101 stopped at 7.0 x the noise): a polish takes its Jacobian at the 1 us step the
+    residual is simulated at, a fit from afar at fit.JAC_MAX_DT_S (half the cost a column)."""
+    target = np.array([0.3, -0.2])
+    steps: list[tuple[bool, float]] = []  # (a Jacobian column, the step it was simulated at)
+
+    def res_at(self, theta, per_cycle, max_dt_s=F.MAX_DT_S):
+        steps.append((False, max_dt_s))
+        d = np.asarray(theta) - target
+        return np.concatenate([d, 0.5 * d, [0.01, -0.01]])  # a linear problem, 6 residuals
+
+    def res_many(self, thetas, per_cycle, max_dt_s):
+        out = [res_at(self, th, per_cycle, max_dt_s) for th in thetas]
+        steps[-len(thetas) :] = [(True, max_dt_s)] * len(thetas)
+        return out
+
+    monkeypatch.setattr(F._Problem, "res_at", res_at)
+    monkeypatch.setattr(F._Problem, "res_many", res_many)
+    free = Free(("normal_force_n", "sigma0_n_per_m"), ())
+    for polish, jac_step in ((True, F.MAX_DT_S), (False, F.JAC_MAX_DT_S)):
+        steps.clear()
+        F.fit([], NOMINAL, Model(NOMINAL), free, 2e-9, max_nfev=6, polish=polish, grid=False)
+        columns = {dt for is_col, dt in steps if is_col}
+        assert columns == {jac_step}, (polish, columns)
+        # the residual itself, hence the optimum, always at the model's own step
+        assert {dt for is_col, dt in steps if not is_col} <= {F.MAX_DT_S, jac_step}
+    assert F.JAC_MAX_DT_S > F.MAX_DT_S  # the test would not tell the two apart otherwise
