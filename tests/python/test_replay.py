@@ -1,5 +1,5 @@
-"""hil replay (issue 16): a model file into a node, a dataset's drive through it in lock-step,
-and the error as the diagnosis computes it."""
+"""hil replay (issue 16): a model file into a node, a dataset's drive through it (its sawtooth by
+the node's own player), and the error as the diagnosis computes it."""
 
 from __future__ import annotations
 
@@ -23,10 +23,12 @@ NOISE_M = 2e-9
 
 @pytest.fixture(scope="module")
 def stage(tmp_path_factory):
-    """A short dataset of a stage with a load and a slew limit, and its true model as a file."""
+    """A short dataset of a stage with a load and a slew limit, and its true model as a file. The
+    300 Hz run's peaks fall inside a 1 us step: one drive sample a step would cut them."""
     effects = Effects(load_n=0.03, slew_v_per_s=3e6)
     truth = synth.Truth(ActuatorParams.table1(), effects, ("external_load", "amplifier_slew_limit"))
     design = [synth.RunDesign(f"f500_{d}", 500.0, 100.0, d, 4) for d in (1, -1)]
+    design.append(synth.RunDesign("f300_1", 300.0, 100.0, 1, 4))
     root = tmp_path_factory.mktemp("replay")
     ds = synth.generate(root / "ds", truth, seed=3, design=design)
     source = {"validation_runs": ["f500_-1"]}
@@ -60,6 +62,7 @@ def test_replay_starts_the_slider_where_the_fit_did(tmp_path):
     fx = Effects(friction_gradient_per_m=2e4)
     truth = synth.Truth(ActuatorParams.table1(), fx, ("position_dependent_friction",))
     design = [synth.RunDesign(f"f500_{d}", 500.0, 100.0, d, 4) for d in (1, -1)]
+    design.append(synth.RunDesign("f300_1", 300.0, 100.0, 1, 4))
     ds = D.load(synth.generate(tmp_path / "ds", truth, seed=4, design=design))
     m = ModelFile(truth.params, "ls", fx, causes=truth.causes)
     runs = prepare_all(ds.runs)
@@ -100,7 +103,7 @@ def test_replay_command_writes_its_figures(stage, tmp_path, capsys):
     for r in j["runs"]:
         assert (rep / f"positions_{r['id']}.png").stat().st_size > 10_000
         assert f"| {r['id']} | {r['rmse_m'] * 1e9:.3f} nm | {r['rows']} |" in md
-    assert [r["id"] for r in j["runs"]] == ["f500_1", "f500_-1"]
+    assert [r["id"] for r in j["runs"]] == ["f500_1", "f500_-1", "f300_1"]
     assert all(set(r) == {"id", "rmse_m", "rows"} for r in j["runs"])
     assert j["validation_rmse_m"] == pytest.approx(j["runs"][1]["rmse_m"])
     assert "all runs" in capsys.readouterr().out
@@ -135,6 +138,7 @@ def test_replay_on_the_fixed_point_node_and_the_m0plus_image(tmp_path):
     )
     truth = synth.Truth(ActuatorParams.table1(), fx, ("external_load",))
     design = [synth.RunDesign(f"f500_{d}", 500.0, 100.0, d, 4) for d in (1, -1)]
+    design.append(synth.RunDesign("f300_1", 300.0, 100.0, 1, 4))
     ds = D.load(synth.generate(tmp_path / "ds", truth, seed=3, design=design))
     m = ModelFile(truth.params, "ls", fx)
     with HostNode("tcp") as n, NodeClient(n.url) as c:

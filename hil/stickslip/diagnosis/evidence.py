@@ -5,13 +5,8 @@ from __future__ import annotations
 
 import math
 
-from .fit import (
-    Evaluation,
-)
-from .guards import (
-    FWD_SHARE,
-    share_removed,
-)
+from .fit import Evaluation
+from .guards import FWD_SHARE, share_removed
 from .result import Candidate
 
 # Evidence a model must bring on the validation runs to beat another: a BIC drop of 10 ("very

@@ -61,16 +61,16 @@ def replay_run(
     if rows_per_block < 1:
         raise HilError(f"run {run.id}: {dec} steps per sample, more than a DRIVE_BLOCK carries")
     n = len(run.t_s) - 1
-    drive = _drive(run, dt, n * dec)
     # the slider starts where the fit's simulation started it: what position-dependent friction sees
     x0 = float(np.float32(slider_start_m(run, model.effects)))
     if run.waveform is not None:
         # the node's own player, as the batch simulation: it gives each step the corners of the
         # drive inside it (a 300 Hz peak falls inside a step), which one sample a step cannot
         client.load_waveform(run.waveform)
-        client.reset(float(drive[0]), x0)
+        client.reset(float(_drive(run, dt, 0)[0]), x0)
         tel = client.run(n * dec, decimation=dec, progress=progress)
     else:
+        drive = _drive(run, dt, n * dec)
         client.reset(float(drive[0]), x0)
         tel = client.lockstep(
             drive[1:], block=dec * rows_per_block, decimation=dec, progress=progress
