@@ -6,6 +6,8 @@ the issue's 13-run design at 250 kS/s, diagnosed blind.
   no catalog effect: none, parameter_miscalibration or friction_law only;
 - a hidden effect (slew limit, load, hysteresis) is the first catalog cause named (friction_law
   may come first: the contact is LuGre's, not LS's), with its strength recovered;
+- two effects neither of which passes alone (a slew limit and an asymmetric friction) are named
+  together;
 - an effect outside the catalog is unexplained and names no catalog effect.
 
 CI (scripts/test.sh, pytest -m "not full") runs clean LS-b, the slew limit, the load and the
@@ -83,6 +85,23 @@ def test_external_load_is_named_first(tmp_path, executor):
     assert named[:1] == ["external_load"], j["causes"]
     got = j["extended"]["params"]["external_load.load_n"]
     assert got == pytest.approx(truth["effects"]["external_load"]["load_n"], rel=0.1)
+
+
+@pytest.mark.full
+def test_slew_limit_and_asymmetry_are_named_together(tmp_path, executor):
+    # neither passes alone (seed 100: the slew, fitted under LuGre to 1.1497 V/us against the
+    # truth's 1.1501, removes 24 % of the LS calibration's error; the asymmetry and its twin the
+    # load 46-55 % and fail the 1 000 Hz family); extended unconfirmed, the slew takes the
+    # asymmetry and the pair passes every guard. What is left (27 x the noise) sits in the
+    # asymmetry (-5.4 % against -6.3 %); the slew sets the fall's edge and is pinned to 0.2 %
+    truth, j = _run(tmp_path, "lugre", ("amplifier_slew_limit", "asymmetric_friction"), executor)
+    named = [c for c in j["causes"] if c not in NOT_EFFECTS]
+    assert sorted(named) == ["amplifier_slew_limit", "asymmetric_friction"], j["causes"]
+    p, e = j["extended"]["params"], truth["effects"]
+    want = e["amplifier_slew_limit"]["slew_v_per_s"]
+    assert p["amplifier_slew_limit.slew_v_per_s"] == pytest.approx(want, rel=0.02)
+    want = e["asymmetric_friction"]["asymmetry"]
+    assert p["asymmetric_friction.friction_asymmetry"] == pytest.approx(want, rel=0.25)
 
 
 @pytest.mark.full

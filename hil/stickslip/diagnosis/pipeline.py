@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from concurrent.futures import Executor
 from dataclasses import replace
 from pathlib import Path
@@ -73,6 +73,16 @@ MAX_EXTRA_BATCHES = 1  # ... and once more, the next session.TOP_FIT, when every
 BEAM_WIDTH = 2
 BEAM_SHARE = 0.5
 BEAM_RMSE_RATIO = 3.0
+# When no first cause passes the guards and the base stays unexplained, the best PROVISIONAL_WIDTH
+# first causes that failed only the share or the cross-validation (in range, above the position
+# floor) are extended once, as parents nothing has confirmed. With two effects hidden each bends
+# the other's fit: on the independent generator's slew limit + asymmetry, seed 100, the slew
+# alone came out at 1.1497 V/us (the truth 1.1501) and removed 24 % of the error, the asymmetry
+# alone 46 % and failed the 1 000 Hz family; on the slew the asymmetry passes. A pair found so
+# must pass the guards against its provisional parent and against the base model, and the final
+# check (_backward) holds each of its causes to the share a kept cause needs (docs/diagnosis.md,
+# step 9).
+PROVISIONAL_WIDTH = 3
 # A cause whose signature the friction law's own presliding form can make: a piezo's hysteresis is
 # a rate-independent loop between drive and position, and so is the contact's presliding under a
 # Maxwell-slip law. Named first in a model that stays unexplained (the law misfits the data), it
@@ -261,6 +271,7 @@ def _select(s: Session, base: Candidate, singles: list[Candidate]):
     rounds: list[list[Candidate]] = [singles]
     pool = list(singles)
     extra_batches = 0
+    provisional: list[Candidate] = []  # first causes extended unconfirmed (PROVISIONAL_WIDTH)
     while pool:
         accepted, tried = None, 0
         refined: Candidate | None = None
@@ -269,6 +280,8 @@ def _select(s: Session, base: Candidate, singles: list[Candidate]):
             if not (s.better(cand, parent) and s.better(cand, chosen)):
                 continue
             cand.verdict = s.judged(cand, parent)
+            if any(parent is p for p in provisional) and cand.verdict.confirmed:
+                _judged_on_base(s, cand, base)
             tried += 1
             if cand.verdict.confirmed:
                 refined = _refined(s, cand, chosen)
@@ -307,14 +320,32 @@ def _select(s: Session, base: Candidate, singles: list[Candidate]):
             # (the screen ranks to first order; a cause it placed fourth may be the one), the
             # limit tested first: a batch fitted past it would never be judged
             extra_batches += 1
-            if extra_batches > MAX_EXTRA_BATCHES:
+            more: list[Candidate] = []
+            if extra_batches <= MAX_EXTRA_BATCHES:
+                parents = {id(c.parent): c.parent for c in pool if c.parent is not None}
+                more = [c for p in parents.values() for c in s.fit_pending(p)]
+            if more:
+                pool = sorted(more, key=lambda c: c.score)
+                rounds[-1] = sorted(rounds[-1] + more, key=lambda c: c.score)
+                continue
+            if chosen is not base or provisional:
                 break
-            parents = {id(c.parent): c.parent for c in pool if c.parent is not None}
-            more = [c for p in parents.values() for c in s.fit_pending(p)]
-            if not more:
+            provisional = _provisional_parents(s, base, rounds[0])
+            # the best by every cause (its partner may not screen on the base at all: slew limit
+            # + asymmetry, independent seed 103, the asymmetry predicted worse than the LS
+            # calibration), the others by each other, each pair sought from both its causes (the
+            # pair one parent misses may be the other's to find: seed 100, on the asymmetry under
+            # GMS the slew was not among the pairs fitted, on the slew under LuGre the asymmetry
+            # was and passed)
+            firsts = tuple(c.causes[0] for c in provisional)
+            pool = _extended(s, provisional[:1], once=False)
+            pool = sorted(
+                pool + _extended(s, provisional[1:], firsts, once=False), key=lambda c: c.score
+            )
+            if not pool:
                 break
-            pool = sorted(more, key=lambda c: c.score)
-            rounds[-1] = sorted(rounds[-1] + more, key=lambda c: c.score)
+            rounds.append(pool)
+            extra_batches = MAX_EXTRA_BATCHES  # one batch each, no second: a bounded round
             continue
         before = accepted.parent or chosen
         extra_batches = 0
@@ -324,6 +355,9 @@ def _select(s: Session, base: Candidate, singles: list[Candidate]):
                     f"replaced by {'+'.join(accepted.causes)}, which explains the data better"
                 )
         assert refined is not None  # set with accepted
+        if any(before is p for p in provisional):
+            for c in accepted.causes:  # confirmed together, on the base (_judged_on_base)
+                s.verdicts[c] = accepted.verdict  # type: ignore[assignment]
         chosen = refined
         # a further cause is sought only while the error is above what the verdict calls
         # unexplained: below, it is within the sensor's noise and the C model's own numerical
@@ -343,18 +377,49 @@ def _select(s: Session, base: Candidate, singles: list[Candidate]):
             and before.mse_over_noise - c.mse_over_noise >= BEAM_SHARE * fall
             and c.val.rmse_m <= BEAM_RMSE_RATIO * accepted.val.rmse_m
         ]
-        pool = []
-        seen: set[frozenset[str]] = set()
-        for b in beam:
-            rest = [
-                n for n in CAUSES if n not in b.causes and frozenset((*b.causes, n)) not in seen
-            ]
-            seen.update(frozenset((*b.causes, n)) for n in rest)
-            s.say(f"adding to {'+'.join(b.causes)}: {len(rest)} causes")
-            pool.extend(s.extend(b, rest))
-        pool.sort(key=lambda c: c.score)
+        pool = _extended(s, beam)
         rounds.append(pool)
     return chosen, rounds
+
+
+def _extended(
+    s: Session, parents: list[Candidate], causes: Iterable[str] = CAUSES, once: bool = True
+) -> list[Candidate]:
+    """The causes each parent lacks, screened and the promising ones fitted on top of it, best
+    first. With once, a combination reached from an earlier parent is not sought again."""
+    pool: list[Candidate] = []
+    seen: set[frozenset[str]] = set()
+    for b in parents:
+        rest = [n for n in causes if n not in b.causes and frozenset((*b.causes, n)) not in seen]
+        if once:
+            seen.update(frozenset((*b.causes, n)) for n in rest)
+        s.say(f"adding to {'+'.join(b.causes)}: {len(rest)} causes")
+        pool.extend(s.extend(b, rest))
+    pool.sort(key=lambda c: c.score)
+    return pool
+
+
+def _provisional_parents(s: Session, base: Candidate, first: list[Candidate]) -> list[Candidate]:
+    """The first causes to extend unconfirmed (PROVISIONAL_WIDTH): those fitted on the base that
+    beat it, were judged, and failed neither the range nor the position floor, best first."""
+    ok = [
+        c
+        for c in sorted(first, key=lambda c: c.score)
+        if c.parent is base and c.verdict is not None and c.verdict.in_range and s.better(c, base)
+    ]
+    ok = ok[:PROVISIONAL_WIDTH]
+    if ok:
+        names = ", ".join("+".join(c.causes) for c in ok)
+        s.say(f"no cause passes alone: extending {names} unconfirmed")
+    return ok
+
+
+def _judged_on_base(s: Session, cand: Candidate, base: Candidate) -> None:
+    """A pair on a provisional parent, which passed the guards against that parent, judged against
+    the base as well, both its causes new there: its first cause has not passed them on its own."""
+    v = s.judge(cand, base, cand.causes)
+    assert cand.verdict is not None
+    cand.verdict.reasons.extend(f"against the {base.law} base: {r}" for r in v.reasons)
 
 
 def _refined(s: Session, accepted: Candidate, chosen: Candidate) -> Candidate | None:

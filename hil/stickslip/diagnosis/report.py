@@ -346,7 +346,13 @@ def _markdown(d: Diagnosis, j: dict) -> str:
             f"{verdict} |"
         )
     for i, rnd in enumerate(d.rounds[1:], start=2):
-        lines += ["", f"Round {i} (adding to the causes kept so far):", ""]
+        # a round on first causes that did not pass alone (pipeline.PROVISIONAL_WIDTH)
+        provisional = all(
+            c.parent is not None and c.parent.verdict is not None and not c.parent.verdict.confirmed
+            for c in rnd
+        )
+        on = "first causes that did not pass alone" if provisional else "the causes kept so far"
+        lines += ["", f"Round {i} (adding to {on}):", ""]
         for c in rnd:
             lines.append(f"- {' + '.join(c.causes)}: {_nm(c.val.rmse_m)}, score {c.score:.1f}")
     if d.unexplained:
