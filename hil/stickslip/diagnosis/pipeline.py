@@ -338,7 +338,7 @@ def _select(s: Session, base: Candidate, singles: list[Candidate]):
             # GMS the slew was not among the pairs fitted, on the slew under LuGre the asymmetry
             # was and passed)
             firsts = tuple(c.causes[0] for c in provisional)
-            pool = _extended(s, provisional[:1], once=False)
+            pool = _extended(s, provisional[:1])
             pool = sorted(
                 pool + _extended(s, provisional[1:], firsts, once=False), key=lambda c: c.score
             )
@@ -356,8 +356,10 @@ def _select(s: Session, base: Candidate, singles: list[Candidate]):
                 )
         assert refined is not None  # set with accepted
         if any(before is p for p in provisional):
+            v = accepted.verdict
+            assert v is not None  # judged before it was accepted
             for c in accepted.causes:  # confirmed together, on the base (_judged_on_base)
-                s.verdicts[c] = accepted.verdict  # type: ignore[assignment]
+                s.verdicts[c] = v
         chosen = refined
         # a further cause is sought only while the error is above what the verdict calls
         # unexplained: below, it is within the sensor's noise and the C model's own numerical

@@ -67,7 +67,7 @@ def replay_run(
         # the node's own player, as the batch simulation: it gives each step the corners of the
         # drive inside it (a 300 Hz peak falls inside a step), which one sample a step cannot
         client.load_waveform(run.waveform)
-        client.reset(float(_drive(run, dt, 0)[0]), x0)
+        client.reset(float(drive_samples(run.waveform, dt, 0)[0]), x0)
         tel = client.run(n * dec, decimation=dec, progress=progress)
     else:
         drive = _drive(run, dt, n * dec)
