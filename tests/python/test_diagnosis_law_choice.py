@@ -111,15 +111,16 @@ def test_the_law_is_not_chosen_again_only_when_the_first_stages_were_clear():
 
 def test_the_screen_keeps_each_law_s_best_probe_at_nominal():
     # three rows, the last held out; two probe points; per law the point with the smaller
-    # per-cycle error on the held-out row is kept, whichever law screened best overall
+    # per-cycle error on the held-out row is kept, whichever law screened best overall (the
+    # probes at nominal and the parent's per-cycle error hold the held-out row alone)
     lin = Linearization(np.array([1.0, 1.0, 1.0]), np.zeros((3, 0)), np.array([0, 0, 1]))
     points = [{"base_freq_hz": 2e3}, {"base_freq_hz": 5e3}]
     probes = [np.array([1.0, 1.0, 1.0]), np.array([1.0, 1.0, 1.0])]
     nominal = {
-        "ls": [np.array([0, 0, 0.5]), np.array([0, 0, 0.1])],
-        "lugre": [np.array([0, 0, 0.2]), np.array([0, 0, 0.9])],
+        "ls": [np.array([0.5]), np.array([0.1])],
+        "lugre": [np.array([0.2]), np.array([0.9])],
     }
-    x = screen(lin, [1], "base_compliance", points, probes, nominal, np.array([1.0, 1.0, 1.0]))
+    x = screen(lin, [1], "base_compliance", points, probes, nominal, np.array([1.0]))
     assert x.nominal_points == {"ls": points[1], "lugre": points[0]}
     assert x.from_nominal and x.law == "ls" and x.values == points[1]
 

@@ -84,7 +84,9 @@ def screen(
     a probe a little off a steep optimum, such as a slew limit's, is off by microseconds of slip
     in every cycle and hides the basin); its predicted validation error is the parent's scaled by
     the per-cycle ratio. Those probes see a cause whose absence bent the calibration too far for a
-    linear step to undo: a slew limit the calibration absorbed into its friction, or its law."""
+    linear step to undo: a slew limit the calibration absorbed into its friction, or its law.
+    nominal_probes and parent_per_cycle hold the validation runs' rows only (all they are
+    compared on); probes, lin's rows of every run."""
     val = np.isin(lin.run_of_row, val_runs)
     rss_parent, _ = _predict(lin.jac, lin.r, val)
     best = None
@@ -95,9 +97,9 @@ def screen(
             best = Screened(cause, v, rss, int(np.sum(val)), rss_parent, a)
     per_law: dict[str, dict[str, float]] = {}
     if parent_per_cycle is not None:
-        pc_parent = float(np.sum(parent_per_cycle[val] ** 2))
+        pc_parent = float(np.sum(parent_per_cycle**2))
         for law, rs in (nominal_probes or {}).items():
-            costs = [float(np.sum(rn[val] ** 2)) for rn in rs]
+            costs = [float(np.sum(rn**2)) for rn in rs]
             i = int(np.argmin(costs))
             per_law[law] = points[i]
             rss = rss_parent * costs[i] / max(pc_parent, 1e-300)

@@ -190,9 +190,12 @@ class Session:
         m_nom = {law: self.at_nominal(replace(m, law=law)) for law in laws}
 
         def probes(model: Model, c: str, pts, pc: bool = False) -> list[Future]:
-            return [self.ex.submit(probe_residual, self.runs, model, c, v, noise, pc) for v in pts]
+            # a per-cycle probe is compared on the validation runs alone: only those are simulated
+            # (with the runs before them when heat carries over: fit.predict_all)
+            runs = self.val if pc else self.runs
+            return [self.ex.submit(probe_residual, runs, model, c, v, noise, pc) for v in pts]
 
-        parent_pc = self.ex.submit(probe_residual, self.runs, m, None, {}, noise, True)
+        parent_pc = self.ex.submit(probe_residual, self.val, m, None, {}, noise, True)
         jobs = [
             (
                 c,
