@@ -126,7 +126,10 @@ def main() -> int:
     tag_batches()
     with a.out.open("w") as out:
         for name, causes, kw in (c for c in table if c[0] in a.cases):
-            for seed in range(a.first_seed, a.first_seed + a.seeds):
+            seeds = range(a.first_seed, a.first_seed + a.seeds)
+            if only is not None:  # --only's seeds, whatever --first-seed and --seeds say
+                seeds = sorted({sd for nm, sd in only if nm == name})
+            for seed in seeds:
                 if only is not None and (name, seed) not in only:
                     continue
                 case = name if a.generator == "independent" else f"own:{name}"
