@@ -130,8 +130,6 @@ def main() -> int:
             if only is not None:  # --only's seeds, whatever --first-seed and --seeds say
                 seeds = sorted({sd for nm, sd in only if nm == name})
             for seed in seeds:
-                if only is not None and (name, seed) not in only:
-                    continue
                 case = name if a.generator == "independent" else f"own:{name}"
                 path = P.dataset(case, seed, a.rate_hz, a.data)
                 counter.by_stage.clear()

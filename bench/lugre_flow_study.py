@@ -25,6 +25,7 @@ import numpy as np
 import scipy.linalg
 import step_study as SS
 
+from stickslip.independent.plant import sawtooth_segments
 from stickslip.model import ActuatorParams, Sawtooth
 
 P = ActuatorParams.table1()
@@ -123,38 +124,26 @@ def remainder_kick(s: list[float], lin1: float, h: float) -> list[float]:
     return [xr, vr - r * 0.5 * h / MR, xs, vs + r * 0.5 * h / MS, z]
 
 
-def pieces(w: Sawtooth) -> list[tuple[float, float, float, float]]:
-    """The drive's straight pieces (t0, t1, V0, V1), as ss_sawtooth_at_phase_f32 plays them."""
-    r, period = w.rise_fraction, w.period_s
-
-    def volts(phase: float) -> float:
-        p = 1.0 - phase if w.direction < 0 else phase
-        return w.offset_v + w.amplitude_v * (p / r if p < r else (1.0 - p) / (1.0 - r))
-
-    peak = (1.0 - r if w.direction < 0 else r) * period
-    out = []
-    for c in range(w.cycles):
-        t0 = c * period
-        out += [(t0, t0 + peak, volts(0.0), volts(peak / period))]
-        out += [(t0 + peak, t0 + period, volts(peak / period), volts(1.0))]
-    return out
-
-
 def run(w: Sawtooth, h: float, step) -> tuple[np.ndarray, np.ndarray]:
-    ps = pieces(w)
-    s = [GAIN * ps[0][2], 0.0, 0.0, 0.0, 0.0]
+    """The slider's position after each step of h, the drive's straight pieces from the
+    independent generator's reading of the sawtooth (each step split at its corners), held at
+    the offset for a step past the last period (a step count's rounding)."""
+    t0s, t1s, v0s, v1s = sawtooth_segments(
+        w.frequency_hz, w.amplitude_v, w.offset_v, w.rise_fraction, w.direction, w.cycles, h
+    )
+    rates = ((v1s - v0s) / (t1s - t0s)).tolist()  # Python floats: the steps are scalar code
+    t0l, v0l = t0s.tolist(), v0s.tolist()
+    s = [GAIN * v0l[0], 0.0, 0.0, 0.0, 0.0]
     n = int(round(w.duration_s / h))
     xs = np.zeros(n + 1)
     for i in range(n):
         t0, t1 = i * h, (i + 1) * h
-        cuts = [t0] + [b for _, b, _, _ in ps if t0 + 1e-15 < b < t1 - 1e-15] + [t1]
+        inside = t1s[(t1s > t0 + 1e-15) & (t1s < t1 - 1e-15)]
+        cuts = [t0, *inside.tolist(), t1]
         for u0, u1 in zip(cuts[:-1], cuts[1:]):
-            tm = 0.5 * (u0 + u1)
-            # past the last period (a step's rounding): the drive holds its last value
-            hold = (u0, u1, ps[-1][3], ps[-1][3])
-            a, b, va, vb = next((q for q in ps if q[0] <= tm < q[1]), hold)
-            rate = (vb - va) / (b - a)
-            s = step(s, u1 - u0, GAIN * (va + rate * (u0 - a)), GAIN * rate)
+            k = int(np.searchsorted(t1s, 0.5 * (u0 + u1), side="right"))
+            volts = v0l[k] + rates[k] * (u0 - t0l[k])
+            s = step(s, u1 - u0, GAIN * volts, GAIN * rates[k])
         xs[i + 1] = s[2]
     return np.arange(n + 1) * h, xs
 
