@@ -9,6 +9,12 @@ With --variant q the fixed-point core runs the steps, against the same float ref
     PYTHONPATH=hil .venv/bin/python bench/step_study.py [--steps-us 0.5,1,1.25,2] [--variant q]
         [--models ls,lugre,gms] [--param piezo_damping_kg_per_s=62 ...]
 
+--coarse N runs the steps with coarse steps of N where the contact sticks (LuGre; a row every N
+steps, docs/model.md "Coarse steps while the contact sticks") and prints each drive's error and
+model steps per microsecond:
+
+    PYTHONPATH=hil .venv/bin/python bench/step_study.py --models lugre --steps-us 1 --coarse 4
+
 --param sets an actuator parameter (ActuatorParams' names) for every run, reference included: an
 experiment on what limits the step (docs/model.md), not the criterion, which is Table I's.
 """
@@ -28,7 +34,13 @@ CYCLES = {100.0: 4, 300.0: 6, 500.0: 8, 1000.0: 10, 2000.0: 12}  # about 40 ms o
 DRIVES = [(f, 15e-6) for f in CYCLES] + [(500.0, 100e-6)]
 
 
-def steps(
+def steps(*args, **kw) -> np.ndarray:
+    """Each cycle's step after the first (from rest) of a run(): model, frequency, direction,
+    fall, step[, variant, params, coarse]."""
+    return run(*args, **kw)[0]
+
+
+def run(
     model: str,
     f_hz: float,
     direction: int,
@@ -36,17 +48,21 @@ def steps(
     dt_s: float,
     variant: str = "f32",
     params: ActuatorParams | None = None,
-) -> np.ndarray:
+    coarse: int = 1,
+) -> tuple[np.ndarray, float]:
+    """The per-cycle steps after the first, and the model steps a microsecond of the run took."""
     w = Sawtooth(frequency_hz=f_hz, amplitude_v=100.0, direction=direction, cycles=CYCLES[f_hz])
     r = simulate(
         w.with_fall_time(fall_s),
         params=params,
         model=model,
         dt_s=dt_s,
-        decimation=1,
+        decimation=coarse,  # a coarse step never crosses a row
         variant=variant,
+        coarse_steps=coarse,
     )
-    return r.per_cycle_steps()[1:]
+    n_steps = r.meta.get("model_steps", len(r.t_s) - 1)
+    return r.per_cycle_steps()[1:], n_steps / (w.duration_s * 1e6)
 
 
 def parse_params(items: list[str]) -> ActuatorParams:
@@ -74,22 +90,32 @@ def main() -> None:
     )
     ap.add_argument("--models", default="ls,lugre", help="laws, comma-separated (ls, lugre, gms)")
     ap.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
+    ap.add_argument("--coarse", type=int, default=1, metavar="N", help="coarse steps of N (LuGre)")
     a = ap.parse_args()
     params = parse_params(a.param)
     models = a.models.split(",")
     dts = [float(x) * 1e-6 for x in a.steps_us.split(",")]
     worst: dict[tuple[str, float], tuple[float, str]] = {}
+    rows = []
     for model in models:
         for f_hz, fall_s in DRIVES:
             for direction in (1, -1):
                 ref = steps(model, f_hz, direction, fall_s, REF_DT_S, params=params)
                 case = f"{f_hz:g} Hz {'fwd' if direction > 0 else 'rev'} {fall_s * 1e6:g} us"
                 for dt in dts:
-                    s = steps(model, f_hz, direction, fall_s, dt, a.variant, params)
+                    s, per_us = run(model, f_hz, direction, fall_s, dt, a.variant, params, a.coarse)
                     n = len(s)  # a run that stops short of its drive's end has one cycle fewer
                     err = 100 * float(np.max(np.abs(s / ref[:n] - 1)))
+                    rows.append(f"| {model} | {case} | {dt * 1e6:g} | {err:.3f} % | {per_us:.3f} |")
                     if err > worst.get((model, dt), (-1.0, ""))[0]:
                         worst[(model, dt)] = (err, case)
+    if a.coarse > 1:
+        print(
+            f"| law | drive | step (us) | per-cycle error, coarse steps of {a.coarse} | "
+            "model steps per us |"
+        )
+        print("|---|---|---|---|---|")
+        print("\n".join(rows))
     names = {"ls": "LS", "lugre": "LuGre", "gms": "GMS"}
     print(
         "| step (us) | steps to the 15 us fall | "

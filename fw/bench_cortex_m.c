@@ -18,6 +18,41 @@ static void print(const ss_port_link_t *link, const char *s)
     (void)link->write(link->ctx, (const uint8_t *)s, n);
 }
 
+/* The loop alone (the waveform player) over BENCH_STEPS steps, ns: advancing, and advancing and
+ * reading the value (the runs' own player work, subtracted from their figures). */
+static void player_cost(const ss_port_link_t *link, const ss_waveform_config_f32_t *w, float dt_s,
+                        uint64_t *advance_ns, uint64_t *advance_value_ns)
+{
+    ss_waveform_state_f32_t ws;
+    (void)ss_waveform_init_f32(w, dt_s, &ws);
+    const uint64_t t0 = link->time_ns(link->ctx);
+    for (uint32_t i = 0; i < BENCH_STEPS; ++i) {
+        ss_waveform_advance_f32(&ws);
+    }
+    const uint64_t t1 = link->time_ns(link->ctx);
+    (void)ss_waveform_init_f32(w, dt_s, &ws);
+    for (uint32_t i = 0; i < BENCH_STEPS; ++i) {
+        ss_waveform_advance_f32(&ws);
+        (void)ss_waveform_value_f32(w, &ws);
+    }
+    *advance_ns = t1 - t0;
+    *advance_value_ns = link->time_ns(link->ctx) - t1;
+}
+
+/* issue 17's figure of merit: the model alone (the waveform is the drive's, not the model's), per
+ * microsecond of model time at the step it runs */
+static void print_merit(const ss_port_link_t *link, const char *name, double model_instructions, float dt_s,
+                        const char *how)
+{
+    char line[160];
+    const double model_us = (double)BENCH_STEPS * (double)dt_s * 1e6;
+    (void)snprintf(line, sizeof line,
+                   "bench %s: %lu instructions per microsecond of model time at a step of %lu ns%s\n", name,
+                   (unsigned long)(model_instructions / model_us + 0.5),
+                   (unsigned long)((double)dt_s * 1e9 + 0.5), how);
+    print(link, line);
+}
+
 int main(void)
 {
     const ss_port_link_t *link = ss_cortex_m_init();
@@ -25,6 +60,8 @@ int main(void)
     /* each law at the longest step at which it holds issue 17's 0.1 % a cycle over the drive matrix
      * (bench/step_study.py, docs/model.md): LS 1.5 us, LuGre 1 us */
     static const float step_s[2] = {1.5e-6f, 1.0e-6f};
+    static ss_actuator_state_f32_t st;
+    char line[160];
     for (int m = 0; m < 2; ++m) {
         ss_actuator_config_f32_t cfg = ss_actuator_config_table1_f32();
         cfg.friction_model = m;
@@ -32,36 +69,42 @@ int main(void)
         ss_waveform_config_f32_t w = ss_waveform_paper_f32();
         w.cycles = 1000u;
         ss_waveform_state_f32_t ws;
-        static ss_actuator_state_f32_t st;
+        uint64_t advance_ns;
+        uint64_t player_ns;
+        player_cost(link, &w, cfg.dt_s, &advance_ns, &player_ns);
         (void)ss_waveform_init_f32(&w, cfg.dt_s, &ws);
         (void)ss_actuator_init_f32(&cfg, &st, 0.0f);
         uint32_t rows = 0;
-        /* the loop alone (waveform player), to subtract */
-        const uint64_t t0 = link->time_ns(link->ctx);
-        for (uint32_t i = 0; i < BENCH_STEPS; ++i) {
-            ss_waveform_advance_f32(&ws);
-            (void)ss_waveform_value_f32(&w, &ws);
-        }
         const uint64_t t1 = link->time_ns(link->ctx);
-        (void)ss_waveform_init_f32(&w, cfg.dt_s, &ws);
         (void)ss_actuator_run_f32(&cfg, &st, &w, &ws, BENCH_STEPS, 1u, NULL, &rows);
         const uint64_t t2 = link->time_ns(link->ctx);
-        char line[160];
         (void)snprintf(line, sizeof line,
                        "bench %s: %lu steps, %lu instructions per step with the waveform, %lu for the "
                        "waveform alone\n",
                        names[m], (unsigned long)BENCH_STEPS, (unsigned long)((t2 - t1) / BENCH_STEPS),
-                       (unsigned long)((t1 - t0) / BENCH_STEPS));
+                       (unsigned long)(player_ns / BENCH_STEPS));
         print(link, line);
-        /* issue 17's figure of merit: the model alone (the waveform is the drive's, not the
-         * model's), per microsecond of model time at the step it runs */
-        const double model_instructions = (double)((t2 - t1) - (t1 - t0)); /* shift=0: one a ns */
-        const double model_us = (double)BENCH_STEPS * (double)cfg.dt_s * 1e6;
-        (void)snprintf(line, sizeof line,
-                       "bench %s: %lu instructions per microsecond of model time at a step of %lu ns\n",
-                       names[m], (unsigned long)(model_instructions / model_us + 0.5),
-                       (unsigned long)((double)cfg.dt_s * 1e9 + 0.5));
+        print_merit(link, names[m], (double)((t2 - t1) - player_ns), cfg.dt_s, ""); /* shift=0: one a ns */
+        if (m != SS_FRICTION_LUGRE) {
+            continue;
+        }
+        /* LuGre with coarse steps of 4 where the contact sticks (docs/model.md): the same
+         * BENCH_STEPS steps of model time in fewer model steps; the player advanced every step of
+         * dt but read once a model step */
+        ss_actuator_coarse_f32_t co;
+        (void)ss_actuator_coarse_init_f32(&cfg, 4u, &co, NULL);
+        (void)ss_waveform_init_f32(&w, cfg.dt_s, &ws);
+        (void)ss_actuator_init_f32(&cfg, &st, 0.0f);
+        uint32_t model_steps = 0;
+        const uint64_t t3 = link->time_ns(link->ctx);
+        (void)ss_actuator_run_coarse_f32(&cfg, &co, &st, &w, &ws, BENCH_STEPS, 4u, NULL, &rows, &model_steps);
+        const uint64_t t4 = link->time_ns(link->ctx);
+        const double value_ns = (double)(player_ns - advance_ns) / BENCH_STEPS;
+        (void)snprintf(line, sizeof line, "bench lugre coarse 4: %lu model steps for %lu steps of dt\n",
+                       (unsigned long)model_steps, (unsigned long)BENCH_STEPS);
         print(link, line);
+        print_merit(link, "lugre coarse 4", (double)(t4 - t3) - (double)advance_ns - value_ns * model_steps,
+                    cfg.dt_s, " (coarse steps of 4)");
     }
     ss_cortex_m_exit(0);
     return 0;

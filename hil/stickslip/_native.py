@@ -144,6 +144,18 @@ class RunJob(C.Structure):
     ]
 
 
+class ActuatorCoarse(C.Structure):
+    """ss_actuator_coarse_f32_t: coarse steps while the contact sticks (LuGre)."""
+
+    _fields_ = [
+        ("phi", C.c_float * 4),
+        ("dt_s", C.c_float),
+        ("n", C.c_uint32),
+        ("v_rel_max_m_per_s", C.c_float),
+        ("v_ring_max_m_per_s", C.c_float),
+    ]
+
+
 # --- the fixed-point (_q) family: integer configs, made from the float ones by the library's
 # host-side converter (ss_convert_q.h); formats in docs/fixed-point.md
 
@@ -205,6 +217,18 @@ class ActuatorConfigQ(C.Structure):
     ]
 
 
+class ActuatorCoarseQ(C.Structure):
+    """ss_actuator_coarse_q_t: the q family's coarse steps (ss_actuator_coarse_to_q)."""
+
+    _fields_ = [
+        ("cfg", ActuatorConfigQ),
+        ("n", C.c_uint32),
+        ("v_rel_max_q28", C.c_int32),
+        ("ring_max_q40", C.c_int32),
+        ("pad", C.c_int32),
+    ]
+
+
 class WaveformConfigQ(C.Structure):
     _fields_ = [
         ("frequency_mhz", C.c_uint32),
@@ -260,6 +284,8 @@ _ABI = {
     WaveformConfig: 3,
     ActuatorTrace: 7,
     RunJob: 23,
+    ActuatorCoarse: 24,
+    ActuatorCoarseQ: 25,
     EffectsConfig: 20,
     FrictionMu: 22,
     FrictionConfigQ: 8,
@@ -340,6 +366,28 @@ _proto(
     C.POINTER(C.c_uint32),
 )
 _proto("ss_actuator_run_many_f32", C.c_int, C.POINTER(RunJob), C.c_uint32)
+_proto(
+    "ss_actuator_coarse_init_f32",
+    C.c_int,
+    C.POINTER(ActuatorConfig),
+    C.c_uint32,
+    C.POINTER(ActuatorCoarse),
+    C.POINTER(C.c_char_p),
+)
+_proto(
+    "ss_actuator_run_coarse_f32",
+    C.c_int,
+    C.POINTER(ActuatorConfig),
+    C.POINTER(ActuatorCoarse),
+    _P,
+    C.POINTER(WaveformConfig),
+    _P,
+    C.c_uint32,
+    C.c_uint32,
+    C.POINTER(ActuatorTrace),
+    C.POINTER(C.c_uint32),
+    C.POINTER(C.c_uint32),
+)
 _proto("ss_waveform_init_f32", C.c_int, C.POINTER(WaveformConfig), C.c_float, _P)
 _proto("ss_waveform_value_f32", C.c_float, C.POINTER(WaveformConfig), _P)
 _proto("ss_waveform_fill_f32", C.c_int, C.POINTER(WaveformConfig), _P, _FP, C.c_uint32)
@@ -386,6 +434,28 @@ _proto(
     C.c_uint32,
     C.c_uint32,
     C.POINTER(ActuatorTraceQ),
+    C.POINTER(C.c_uint32),
+)
+_proto(
+    "ss_actuator_coarse_to_q",
+    C.c_int,
+    C.POINTER(ActuatorConfig),
+    C.c_uint32,
+    C.POINTER(ActuatorCoarseQ),
+    C.POINTER(C.c_char_p),
+)
+_proto(
+    "ss_actuator_run_coarse_q",
+    C.c_int,
+    C.POINTER(ActuatorConfigQ),
+    C.POINTER(ActuatorCoarseQ),
+    _P,
+    C.POINTER(WaveformConfigQ),
+    _P,
+    C.c_uint32,
+    C.c_uint32,
+    C.POINTER(ActuatorTraceQ),
+    C.POINTER(C.c_uint32),
     C.POINTER(C.c_uint32),
 )
 
@@ -658,6 +728,47 @@ def run_f32(
     return r.result(status, written.value)
 
 
+def run_f32_coarse(
+    cfg: ActuatorConfig,
+    wave: WaveformConfig,
+    n_steps: int,
+    decimation: int,
+    coarse_steps: int,
+    x0_m: float = 0.0,
+    heat0_j: float = 0.0,
+    v_rel_max_m_per_s: float | None = None,
+    v_ring_max_m_per_s: float | None = None,
+) -> tuple[dict[str, np.ndarray], float, int]:
+    """run_f32 with coarse steps of coarse_steps steps where the contact sticks
+    (ss_actuator_run_coarse_f32; LuGre only), the library's bounds unless given. Returns run_f32's
+    columns and heat, and the steps the model took."""
+    co = ActuatorCoarse()
+    bad = C.c_char_p()
+    status = lib.ss_actuator_coarse_init_f32(C.byref(cfg), coarse_steps, C.byref(co), C.byref(bad))
+    if status != 0:
+        raise NativeError(status, f"coarse steps ({(bad.value or b'').decode()})")
+    if v_rel_max_m_per_s is not None:
+        co.v_rel_max_m_per_s = v_rel_max_m_per_s
+    if v_ring_max_m_per_s is not None:
+        co.v_ring_max_m_per_s = v_ring_max_m_per_s
+    r = _RunF32(cfg, wave, n_steps, decimation, x0_m, heat0_j)
+    written, taken = C.c_uint32(0), C.c_uint32(0)
+    status = lib.ss_actuator_run_coarse_f32(
+        C.byref(cfg),
+        C.byref(co),
+        r.st,
+        C.byref(wave),
+        r.wst,
+        n_steps,
+        decimation,
+        C.byref(r.trace),
+        C.byref(written),
+        C.byref(taken),
+    )
+    cols, heat = r.result(status, written.value)
+    return cols, heat, int(taken.value)
+
+
 def run_f32_many(
     runs: list[tuple[ActuatorConfig, WaveformConfig, int, int, float, float]],
 ) -> list[tuple[dict[str, np.ndarray], float] | NativeError]:
@@ -696,7 +807,29 @@ def run_q(
 ) -> dict[str, np.ndarray]:
     """The fixed-point core on the configs the library's converter makes of cfg and wave, as
     run_f32; columns as TRACE_Q_COLUMNS, the integers of the q family (scales: q_scale)."""
+    return _run_q(cfg, wave, n_steps, decimation, 1)[0]
+
+
+def run_q_coarse(
+    cfg: ActuatorConfig, wave: WaveformConfig, n_steps: int, decimation: int, coarse_steps: int
+) -> tuple[dict[str, np.ndarray], int]:
+    """run_q with coarse steps of coarse_steps steps where the contact sticks
+    (ss_actuator_run_coarse_q, from ss_actuator_coarse_to_q; LuGre only): the columns, and the
+    steps the model took."""
+    return _run_q(cfg, wave, n_steps, decimation, coarse_steps)
+
+
+def _run_q(
+    cfg: ActuatorConfig, wave: WaveformConfig, n_steps: int, decimation: int, coarse_steps: int
+) -> tuple[dict[str, np.ndarray], int]:
     cq, wq = to_q(cfg, wave)
+    co = None
+    if coarse_steps > 1:
+        co = ActuatorCoarseQ()
+        bad = C.c_char_p()
+        status = lib.ss_actuator_coarse_to_q(C.byref(cfg), coarse_steps, C.byref(co), C.byref(bad))
+        if status != 0:
+            raise NativeError(status, f"coarse steps ({(bad.value or b'').decode()})")
     rows = n_steps // decimation
     cols = {k: np.zeros(rows + 1, dt) for k, dt in TRACE_Q_COLUMNS.items()}
     st, wst = new_actuator_state_q(), new_waveform_state_q()
@@ -705,12 +838,14 @@ def run_q(
     check(lib.ss_actuator_init_q(C.byref(cq), st, v0), "q actuator parameters")
     lib.ss_actuator_record_q(C.byref(cq), st, C.byref(trace_q_for(cols, rows + 1)), 0)
     tr = trace_q_for({k: v[1:] for k, v in cols.items()}, rows)
-    written = C.c_uint32(0)
-    status = lib.ss_actuator_run_q(
-        C.byref(cq), st, C.byref(wq), wst, n_steps, decimation, C.byref(tr), C.byref(written)
-    )
+    written, taken = C.c_uint32(0), C.c_uint32(n_steps)
+    args = (st, C.byref(wq), wst, n_steps, decimation, C.byref(tr), C.byref(written))
+    if co is None:
+        status = lib.ss_actuator_run_q(C.byref(cq), *args)
+    else:
+        status = lib.ss_actuator_run_coarse_q(C.byref(cq), C.byref(co), *args, C.byref(taken))
     check(status, f"q run stopped after {written.value * decimation} steps")
-    return cols
+    return cols, int(taken.value)
 
 
 def run_q_samples(

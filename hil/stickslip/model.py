@@ -468,6 +468,7 @@ def simulate(
     x0_m: float = 0.0,
     variant: str = "f32",
     heat0_j: float = 0.0,
+    coarse_steps: int = 1,
 ) -> SimResult:
     """Simulate the actuator under a sawtooth, or under sampled drive voltages (drive_v at
     drive_interval_s, linearly interpolated), with the C model; effects switch on optional
@@ -476,7 +477,15 @@ def simulate(
     variant "q" runs the fixed-point core (a sawtooth, or a drive sampled at its step taken one
     sample a step, as a q node's lock-step; the slider starting at 0; of the effects,
     the load, the slew limit, the sensor scale, the asymmetric friction, the hysteresis and the
-    base: the converter refuses the others by name)."""
+    base: the converter refuses the others by name). coarse_steps > 1 (LuGre) takes that
+    many steps as one where the contact sticks and the rod is quiet (docs/model.md, "Coarse steps
+    while the contact sticks"): the same rows, fewer model steps (meta["model_steps"])."""
+    if not isinstance(coarse_steps, int) or coarse_steps < 1:
+        raise ValueError(f"coarse_steps must be an integer >= 1, got {coarse_steps!r}")
+    if coarse_steps > 1 and variant == "q" and drive_v is not None:
+        raise ValueError(
+            "coarse_steps: the q variant's sawtooth only (a sampled drive bends each step)"
+        )
     s = _setup(
         waveform,
         params,
@@ -491,12 +500,24 @@ def simulate(
         variant,
         heat0_j,
     )
+    if variant == "q" and coarse_steps > 1:
+        cols, taken = N.run_q_coarse(s.cfg, s.wave_cfg, s.n_steps, decimation, coarse_steps)
+        r = _result(s, _si_from_q(cols, model), 0.0)
+        r.meta["model_steps"] = taken
+        return r
     if variant == "q":
         if s.samples is not None:
             cols = N.run_q_samples(s.cfg, s.samples, decimation)
         else:
             cols = N.run_q(s.cfg, s.wave_cfg, s.n_steps, decimation)
         return _result(s, _si_from_q(cols, model), 0.0)
+    if coarse_steps > 1:
+        cols, heat_end, taken = N.run_f32_coarse(
+            s.cfg, s.wave_cfg, s.n_steps, decimation, coarse_steps, x0_m, heat0_j
+        )
+        r = _result(s, _f64(cols), heat_end)
+        r.meta["model_steps"] = taken
+        return r
     cols, heat_end = N.run_f32(s.cfg, s.wave_cfg, s.n_steps, decimation, x0_m, heat0_j)
     return _result(s, _f64(cols), heat_end)
 

@@ -27,7 +27,9 @@ typedef enum {
     SS_ABI_EFFECTS_CONFIG_F32 = 20,
     SS_ABI_GMS_STATE_F32 = 21,
     SS_ABI_FRICTION_MU_F32 = 22,
-    SS_ABI_ACTUATOR_RUN_JOB_F32 = 23
+    SS_ABI_ACTUATOR_RUN_JOB_F32 = 23,
+    SS_ABI_ACTUATOR_COARSE_F32 = 24,
+    SS_ABI_ACTUATOR_COARSE_Q = 25
 } ss_abi_struct_t;
 
 /* sizeof the struct, or 0 for an unknown id. */

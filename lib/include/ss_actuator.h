@@ -81,6 +81,43 @@ ss_status_t ss_actuator_step_corner_f32(const ss_actuator_config_f32_t *cfg, ss_
 ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
                                       const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst);
 
+/* Coarse steps (issue 17, docs/model.md "Coarse steps while the contact sticks"): n steps of dt
+ * taken as one step of n dt where that step is as accurate as the fine ones. That is where the
+ * contact sticks and the rod's 69 kHz ring has died down (the ring sampled at 4 us and more puts
+ * 0.15-1 % into a cycle's step) and the drive is straight. LuGre only: under LS the slider rings
+ * on the contact's tangent stiffness through the whole slow edge, and coarse steps of 3 or 4
+ * there cost 0.14-0.38 % for few steps saved. The bounds: the relative velocity (2.5 x Table I's
+ * Stribeck velocity), and the rod's velocity off the piezo's ideal rate (0.11 nm of 69 kHz ring). */
+#define SS_COARSE_V_REL_MAX_M_PER_S 1e-3f
+#define SS_COARSE_V_RING_MAX_M_PER_S 5e-5f
+
+/* Made by ss_actuator_coarse_init_f32 from the actuator's config: init it again after a change of
+ * the config's dt, piezo or rod (its flow is theirs). */
+typedef struct {
+    float phi[4];             /* the rod's flow over n dt */
+    float dt_s;               /* n dt */
+    uint32_t n;               /* steps of dt in a coarse step, [2, 64] */
+    float v_rel_max_m_per_s;  /* the contact sticks: |v_rod - v_slider| below this */
+    float v_ring_max_m_per_s; /* the rod is quiet: |v_rod - the piezo's ideal rate| below this */
+} ss_actuator_coarse_f32_t;
+
+/* The coarse steps for n steps of cfg's dt, with the bounds above (chosen on Table I at dt = 1 us,
+ * n = 4: the worst per-cycle error over issue 17's drive matrix 0.032 %, 0.40 model steps a
+ * microsecond; bench/step_study.py --coarse 4). SS_ERR_RANGE with bad_field "friction_model" for
+ * a law other than LuGre, "coarse_n" for n outside [2, 64] or n dt past the config's range of dt;
+ * the config's own errors as ss_actuator_config_check_f32. */
+ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uint32_t n,
+                                        ss_actuator_coarse_f32_t *co, const char **bad_field);
+
+/* Advance by one step of cfg's dt, or by co->n of them in one coarse step where the drive is
+ * straight over them (ss_waveform_straight_f32), the contact sticks, the rod is quiet, and
+ * co->n <= max_steps (so that a run can end, or record a row, on its grid). *taken gets the steps
+ * of dt taken (st->steps counts them too). co may be NULL: always one step. */
+ss_status_t ss_actuator_coarse_step_f32(const ss_actuator_config_f32_t *cfg,
+                                        const ss_actuator_coarse_f32_t *co, ss_actuator_state_f32_t *st,
+                                        const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
+                                        uint32_t max_steps, uint32_t *taken);
+
 /* Put the slider at x_m (e.g. where a measured run starts; position-dependent friction sees it). */
 void ss_actuator_place_slider_f32(ss_actuator_state_f32_t *st, float x_m);
 
@@ -119,6 +156,15 @@ ss_status_t ss_actuator_run_f32(const ss_actuator_config_f32_t *cfg, ss_actuator
                                 const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
                                 uint32_t n_steps, uint32_t decimation, ss_actuator_trace_f32_t *trace,
                                 uint32_t *rows_out);
+
+/* ss_actuator_run_f32 with coarse steps (co: ss_actuator_coarse_init_f32): the same rows on the
+ * same grid of dt (a coarse step never crosses a row); the steps of the model are fewer. *steps_out
+ * (may be NULL) gets the steps the model took, fine and coarse. */
+ss_status_t ss_actuator_run_coarse_f32(const ss_actuator_config_f32_t *cfg,
+                                       const ss_actuator_coarse_f32_t *co, ss_actuator_state_f32_t *st,
+                                       const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
+                                       uint32_t n_steps, uint32_t decimation, ss_actuator_trace_f32_t *trace,
+                                       uint32_t *rows_out, uint32_t *steps_out);
 
 /* One simulation of a batch (ss_actuator_run_many_f32): the arguments of ss_actuator_run_f32,
  * and its results. trace may be NULL. */

@@ -91,6 +91,17 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
 ss_status_t ss_actuator_step_corner_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
                                       int32_t drive_q16, int32_t corner_frac_q30, int32_t corner_q16);
 
+/* Coarse steps while the contact sticks, as ss_actuator_coarse_f32_t (docs/model.md): the
+ * actuator's config at n dt, made with the bounds by ss_actuator_coarse_to_q (ss_convert_q.h). */
+typedef struct {
+    ss_actuator_config_q_t cfg; /* the actuator's config with dt_q40 the coarse step's */
+    uint32_t n;                 /* steps of dt in a coarse step, [2, 64] */
+    int32_t v_rel_max_q28;      /* the contact sticks: |v_rod - v_slider| below this, m/s at 2^-28 */
+    int32_t ring_max_q40;       /* the rod is quiet: its travel at v_rod over n dt off the ideal strain's
+                                 * change by less than this, m at 2^-40 (the ring bound times n dt) */
+    int32_t pad;                /* zero; keeps the size a multiple of 8 on every target */
+} ss_actuator_coarse_q_t;
+
 /* Columns a run may record (any pointer may be NULL); formats as in the state. */
 typedef struct {
     uint32_t *step;
@@ -128,5 +139,12 @@ ss_status_t ss_actuator_run_q(const ss_actuator_config_q_t *cfg, ss_actuator_sta
                               const ss_waveform_config_q_t *wave, ss_waveform_state_q_t *wst,
                               uint32_t n_steps, uint32_t decimation, ss_actuator_trace_q_t *trace,
                               uint32_t *rows_out);
+
+/* ss_actuator_run_q with coarse steps, as ss_actuator_run_coarse_f32: co may be NULL (none); a
+ * coarse step never crosses a row; *steps_out (may be NULL) gets the model's steps. */
+ss_status_t ss_actuator_run_coarse_q(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
+                                     ss_actuator_state_q_t *st, const ss_waveform_config_q_t *wave,
+                                     ss_waveform_state_q_t *wst, uint32_t n_steps, uint32_t decimation,
+                                     ss_actuator_trace_q_t *trace, uint32_t *rows_out, uint32_t *steps_out);
 
 #endif /* SS_ACTUATOR_Q_H */

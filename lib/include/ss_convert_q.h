@@ -29,6 +29,11 @@ ss_status_t ss_friction_config_to_q(const ss_friction_config_f32_t *in, ss_frict
                                     const char **bad_field);
 ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actuator_config_q_t *out,
                                     const char **bad_field);
+/* The q family's coarse steps for n steps of in's dt (ss_actuator_coarse_init_f32's rules and
+ * bounds): out->cfg is ss_actuator_config_to_q of in at n dt. SS_ERR_RANGE with bad_field
+ * "friction_model" (not LuGre) or "coarse_n", or the converter's own. */
+ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t n,
+                                    ss_actuator_coarse_q_t *out, const char **bad_field);
 /* A sawtooth (kind SS_WAVE_SAWTOOTH) only; frequency to whole mHz, volts to Q16.16. */
 ss_status_t ss_waveform_config_to_q(const ss_waveform_config_f32_t *in, ss_waveform_config_q_t *out,
                                     const char **bad_field);

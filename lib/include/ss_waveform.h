@@ -65,6 +65,15 @@ void ss_waveform_advance_f32(ss_waveform_state_f32_t *st);
 int ss_waveform_corner_f32(const ss_waveform_config_f32_t *cfg, const ss_waveform_state_f32_t *st,
                            float *frac_out, float *v_out);
 
+/* 1 when the drive is one straight segment over the next n steps (its next corner at or beyond
+ * their end, within SS_WAVEFORM_CORNER_MIN_FRAC of a step, or the drive holding), else 0: where a
+ * coarse step of n steps may be taken (ss_actuator_coarse_step_f32). n = 0 gives 1. */
+int ss_waveform_straight_f32(const ss_waveform_config_f32_t *cfg, const ss_waveform_state_f32_t *st,
+                             uint32_t n);
+
+/* The drive's slope over the next step, V/s (the straight piece it lies on; 0 while holding). */
+float ss_waveform_slope_f32(const ss_waveform_config_f32_t *cfg, const ss_waveform_state_f32_t *st);
+
 /* The drive after each of the next n steps (advance, then value), into out[0..n-1]: what
  * ss_actuator_run_f32 feeds the actuator, for a lock-step peer or a controller to send. */
 ss_status_t ss_waveform_fill_f32(const ss_waveform_config_f32_t *cfg, ss_waveform_state_f32_t *st, float *out,

@@ -52,6 +52,10 @@ void ss_waveform_advance_q(ss_waveform_state_q_t *st);
 int ss_waveform_corner_q(const ss_waveform_config_q_t *cfg, const ss_waveform_state_q_t *st,
                          int32_t *frac_q30, int32_t *v_q16);
 
+/* 1 when the drive is one straight piece over the next n steps (its next corner at or beyond their
+ * end, within 2^-10 of a step, or the drive holding), as ss_waveform_straight_f32; else 0. */
+int ss_waveform_straight_q(const ss_waveform_config_q_t *cfg, const ss_waveform_state_q_t *st, uint32_t n);
+
 /* The drive after each of the next n steps (advance, then value), into out_q16[0..n-1]. */
 ss_status_t ss_waveform_fill_q(const ss_waveform_config_q_t *cfg, ss_waveform_state_q_t *st, int32_t *out_q16,
                                uint32_t n);

@@ -30,6 +30,8 @@ uint32_t ss_abi_sizeof(int32_t which)
     case SS_ABI_GMS_STATE_F32: return (uint32_t)sizeof(ss_gms_state_f32_t);
     case SS_ABI_FRICTION_MU_F32: return (uint32_t)sizeof(ss_friction_mu_f32_t);
     case SS_ABI_ACTUATOR_RUN_JOB_F32: return (uint32_t)sizeof(ss_actuator_run_job_f32_t);
+    case SS_ABI_ACTUATOR_COARSE_F32: return (uint32_t)sizeof(ss_actuator_coarse_f32_t);
+    case SS_ABI_ACTUATOR_COARSE_Q: return (uint32_t)sizeof(ss_actuator_coarse_q_t);
     default: return 0u;
     }
 }

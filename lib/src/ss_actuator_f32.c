@@ -131,6 +131,7 @@ static void rod_flow(const ss_actuator_config_f32_t *cfg, float dt, float phi[4]
 /* What a step carries from one phase to the next: step() runs the phases in turn, a batch
  * (ss_actuator_run_many_f32) runs each phase for several simulations before the next. */
 typedef struct {
+    float dt;              /* the step: cfg's dt, or a coarse step's n dt */
     float inv_mr;          /* 1 / rod mass */
     float inv_mc;          /* 1 / slider mass */
     float dx_rel;          /* the drift's relative displacement, rod minus slider */
@@ -174,22 +175,22 @@ SS_FORCE_INLINE const ss_friction_config_f32_t *friction_config(const ss_actuato
 
 /* GMS's advance over the drift's relative displacement: to the turning point first, where the
  * motion turned inside the step (its elements keep LS's memory), then the rest. */
-SS_FORCE_INLINE void gms_advance(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
-                                 const ss_friction_config_f32_t *fr, const carry_t *c)
+SS_FORCE_INLINE void gms_advance(ss_actuator_state_f32_t *st, const ss_friction_config_f32_t *fr,
+                                 const carry_t *c)
 {
     if (c->turn_m != 0.0f) {
-        ss_gms_advance_f32(fr, &st->fr.gms, c->turn_m, c->turn_frac * cfg->dt_s);
+        ss_gms_advance_f32(fr, &st->fr.gms, c->turn_m, c->turn_frac * c->dt);
     }
-    ss_gms_advance_f32(fr, &st->fr.gms, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * cfg->dt_s);
+    ss_gms_advance_f32(fr, &st->fr.gms, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * c->dt);
 }
 
 /* LS's advance to the turning point, where the motion turned inside the step; the rest of the
  * step follows whole (friction_advance) or in parts (friction_begin, friction_end). */
-SS_FORCE_INLINE void ls_advance_to_turn(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
-                                        const ss_friction_config_f32_t *fr, const carry_t *c)
+SS_FORCE_INLINE void ls_advance_to_turn(ss_actuator_state_f32_t *st, const ss_friction_config_f32_t *fr,
+                                        const carry_t *c)
 {
     if (c->turn_m != 0.0f) {
-        ss_ls_advance_f32(fr, &st->fr.ls, c->turn_m, c->turn_frac * cfg->dt_s);
+        ss_ls_advance_f32(fr, &st->fr.ls, c->turn_m, c->turn_frac * c->dt);
     }
 }
 
@@ -199,12 +200,12 @@ SS_FORCE_INLINE void friction_advance(const ss_actuator_config_f32_t *cfg, ss_ac
                                       const ss_friction_config_f32_t *fr, const carry_t *c)
 {
     if (cfg->friction_model == SS_FRICTION_LUGRE) {
-        ss_lugre_advance_f32(fr, &st->fr.lugre, c->dx_rel, cfg->dt_s);
+        ss_lugre_advance_f32(fr, &st->fr.lugre, c->dx_rel, c->dt);
     } else if (cfg->friction_model == SS_FRICTION_GMS) {
-        gms_advance(cfg, st, fr, c);
+        gms_advance(st, fr, c);
     } else {
-        ls_advance_to_turn(cfg, st, fr, c);
-        ss_ls_advance_f32(fr, &st->fr.ls, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * cfg->dt_s);
+        ls_advance_to_turn(st, fr, c);
+        ss_ls_advance_f32(fr, &st->fr.ls, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * c->dt);
     }
 }
 
@@ -230,13 +231,13 @@ SS_FORCE_INLINE void friction_begin(const ss_actuator_config_f32_t *cfg, ss_actu
 {
     p->fr = friction_config(cfg, st, &p->scaled);
     if (cfg->friction_model == SS_FRICTION_LUGRE) {
-        ss_lugre_advance_begin_f32(p->fr, c->dx_rel, cfg->dt_s, &p->lugre_slip);
+        ss_lugre_advance_begin_f32(p->fr, c->dx_rel, c->dt, &p->lugre_slip);
         ss_lugre_force_begin_f32(p->fr, c->v_free, 1, &p->lugre_level);
     } else if (cfg->friction_model == SS_FRICTION_GMS) {
-        gms_advance(cfg, st, p->fr, c); /* whole here: GMS has no parts */
+        gms_advance(st, p->fr, c); /* whole here: GMS has no parts */
     } else {
-        ls_advance_to_turn(cfg, st, p->fr, c);
-        ss_ls_advance_begin_f32(p->fr, &st->fr.ls, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * cfg->dt_s,
+        ls_advance_to_turn(st, p->fr, c);
+        ss_ls_advance_begin_f32(p->fr, &st->fr.ls, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * c->dt,
                                 &p->ls_branch);
     }
 }
@@ -248,7 +249,7 @@ SS_FORCE_INLINE void friction_end(const ss_actuator_config_f32_t *cfg, ss_actuat
     if (cfg->friction_model == SS_FRICTION_LUGRE) {
         ss_lugre_advance_end_f32(p->fr, &st->fr.lugre, c->dx_rel, &p->lugre_slip);
     } else if (cfg->friction_model != SS_FRICTION_GMS) { /* LS, as friction_begin */
-        ss_ls_advance_end_f32(p->fr, &st->fr.ls, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * cfg->dt_s,
+        ss_ls_advance_end_f32(p->fr, &st->fr.ls, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * c->dt,
                               &p->ls_branch);
     }
 }
@@ -285,9 +286,9 @@ static float base_force(const ss_actuator_config_f32_t *cfg, const ss_actuator_s
 
 /* Half a step of friction (and load, and base forces) on every body. */
 SS_FORCE_INLINE void half_kick(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float inv_mr,
-                               float inv_mc)
+                               float inv_mc, float dt)
 {
-    const float half = 0.5f * cfg->dt_s;
+    const float half = 0.5f * dt;
     st->v_rod_m_per_s -= st->force_n * inv_mr * half;
     st->v_slider_m_per_s += (st->force_n + cfg->effects.load_n) * inv_mc * half;
     if (cfg->effects.base_mass_kg != 0.0f) {
@@ -352,10 +353,9 @@ static void rod_drift(const ss_actuator_config_f32_t *cfg, const float phi[4], f
 /* The drift of a step whose drive bends at corner_frac dt: the anchor's two straight pieces, each
  * with the rod's exact flow over its own length (two flow matrices by the own functions), and the
  * effects' drive advanced in the same two pieces. Returns the strain at the step's end. */
-static float drift_with_corner(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+static float drift_with_corner(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float dt,
                                float drive_v, float corner_frac, float corner_v)
 {
-    const float dt = cfg->dt_s;
     const float t1 = corner_frac * dt;
     const float t2 = dt - t1;
     const float x_b0 = st->fx.x_base_m;
@@ -372,12 +372,14 @@ static float drift_with_corner(const ss_actuator_config_f32_t *cfg, ss_actuator_
     return x_p1;
 }
 
-/* A step's first phase: the drive is linear from its current value to drive_v, or (corner_frac >
+/* A step's first phase, a step of dt with the rod's flow phi over it (cfg's dt and the state's
+ * flow, or a coarse step's): the drive is linear from its current value to drive_v, or (corner_frac >
  * 0) linear to corner_v at corner_frac dt and then linear to drive_v. The opening kick and the
  * drift; the friction is advanced over the drift next (friction_advance, or in a batch
  * friction_begin and friction_end), then step_finish. */
 SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
-                                       float drive_v, float corner_frac, float corner_v, carry_t *c)
+                                       const float phi[4], float dt, float drive_v, float corner_frac,
+                                       float corner_v, carry_t *c)
 {
     if (cfg == NULL || st == NULL) {
         return SS_ERR_NULL;
@@ -385,14 +387,14 @@ SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_a
     if (!isfinite(drive_v)) {
         return SS_ERR_NONFINITE;
     }
-    const float dt = cfg->dt_s;
     const float half = 0.5f * dt;
+    c->dt = dt;
     c->inv_mr = 1.0f / cfg->rod_mass_kg;
     c->inv_mc = 1.0f / cfg->slider_mass_kg;
 
     /* kick: half a step of friction on both bodies */
     const float v_rel_start = st->v_rod_m_per_s - st->v_slider_m_per_s;
-    half_kick(cfg, st, c->inv_mr, c->inv_mc);
+    half_kick(cfg, st, c->inv_mr, c->inv_mc, dt);
     const float kick_dv = v_rel_start - (st->v_rod_m_per_s - st->v_slider_m_per_s);
 
     /* drift: the rod's exact flow under the piezo anchor (strain plus base), in two pieces when the
@@ -402,12 +404,12 @@ SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_a
     const float x_rod0 = st->x_rod_m;
     float x_p1;
     if (corner_frac > 0.0f) {
-        x_p1 = drift_with_corner(cfg, st, drive_v, corner_frac, corner_v);
+        x_p1 = drift_with_corner(cfg, st, dt, drive_v, corner_frac, corner_v);
     } else {
-        /* one straight piece, with the flow over dt from init */
+        /* one straight piece, with the flow over dt from init (or the coarse step's) */
         x_p1 = ss_effects_drive_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, dt);
         const float a1 = x_p1 + (x_b0 + st->fx.v_base_m_per_s * dt);
-        rod_drift(cfg, st->phi, dt, a0, a1, st->fx.v_base_m_per_s, &st->x_rod_m, &st->v_rod_m_per_s);
+        rod_drift(cfg, phi, dt, a0, a1, st->fx.v_base_m_per_s, &st->x_rod_m, &st->v_rod_m_per_s);
     }
     const float x_b1 = x_b0 + st->fx.v_base_m_per_s * dt;
     const float dx_slider = st->v_slider_m_per_s * dt;
@@ -470,20 +472,22 @@ SS_FORCE_INLINE void step_finish(const ss_actuator_config_f32_t *cfg, ss_actuato
          * over cycles this is the dissipation. Taking F^2 / 2 sigma0 off each step and counting
          * a negative step as 0 stored 12-15 % more heat under LuGre, whose force holds
          * sigma1 zdot + sigma2 v beside the spring (docs/effects.md). */
-        ss_effects_heat_f32(&cfg->effects, &st->fx, 0.5f * (c->f0 + st->force_n) * c->dx_rel, cfg->dt_s);
+        ss_effects_heat_f32(&cfg->effects, &st->fx, 0.5f * (c->f0 + st->force_n) * c->dx_rel, c->dt);
     }
 
     /* kick */
-    half_kick(cfg, st, c->inv_mr, c->inv_mc);
+    half_kick(cfg, st, c->inv_mr, c->inv_mc, c->dt);
     st->steps++;
 }
 
-/* One step: its phases in turn, the friction law's advance and force whole. */
-static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float drive_v,
-                        float corner_frac, float corner_v)
+/* One step of dt with the rod's flow phi over it: its phases in turn, the friction law's advance
+ * and force whole. */
+SS_FORCE_INLINE ss_status_t step_over(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                      const float phi[4], float dt, float drive_v, float corner_frac,
+                                      float corner_v)
 {
     carry_t c;
-    const ss_status_t status = step_start(cfg, st, drive_v, corner_frac, corner_v, &c);
+    const ss_status_t status = step_start(cfg, st, phi, dt, drive_v, corner_frac, corner_v, &c);
     if (status != SS_OK) {
         return status;
     }
@@ -494,6 +498,16 @@ static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f
     const float f_free = friction_force(cfg, st, fr, &c, &slopes);
     step_finish(cfg, st, &c, f_free, &slopes);
     return SS_OK;
+}
+
+/* One step of cfg's dt. */
+static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float drive_v,
+                        float corner_frac, float corner_v)
+{
+    if (cfg == NULL || st == NULL) {
+        return SS_ERR_NULL;
+    }
+    return step_over(cfg, st, st->phi, cfg->dt_s, drive_v, corner_frac, corner_v);
 }
 
 ss_status_t ss_actuator_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
@@ -539,6 +553,91 @@ ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_ac
                                       const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst)
 {
     return wave_step(cfg, st, wave, wst);
+}
+
+ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uint32_t n,
+                                        ss_actuator_coarse_f32_t *co, const char **bad_field)
+{
+    const char *dummy = "";
+    const char **bad = (bad_field != NULL) ? bad_field : &dummy;
+    if (co == NULL) {
+        *bad = "coarse";
+        return SS_ERR_NULL;
+    }
+    const ss_status_t status = ss_actuator_config_check_f32(cfg, bad);
+    if (status != SS_OK) {
+        return status;
+    }
+    if (cfg->friction_model != SS_FRICTION_LUGRE) {
+        *bad = "friction_model";
+        return SS_ERR_RANGE;
+    }
+    const float dt = (float)n * cfg->dt_s;
+    if (n < 2u || n > 64u || !(dt <= 1e-3f)) { /* the config's range of dt */
+        *bad = "coarse_n";
+        return SS_ERR_RANGE;
+    }
+    co->n = n;
+    co->dt_s = dt;
+    co->v_rel_max_m_per_s = SS_COARSE_V_REL_MAX_M_PER_S;
+    co->v_ring_max_m_per_s = SS_COARSE_V_RING_MAX_M_PER_S;
+    rod_flow(cfg, dt, co->phi);
+    return SS_OK;
+}
+
+/* A coarse step may be taken: co->n steps fit, the contact sticks, the drive is straight over
+ * them and the rod is quiet (its velocity off the piezo's ideal rate, which the slider follows in
+ * stick, by less than the ring's bound). The cheap tests first: most steps of a slip or a ring
+ * stop at the first. */
+SS_FORCE_INLINE int coarse_allowed(const ss_actuator_config_f32_t *cfg, const ss_actuator_coarse_f32_t *co,
+                                   const ss_actuator_state_f32_t *st, const ss_waveform_config_f32_t *wave,
+                                   const ss_waveform_state_f32_t *wst, uint32_t max_steps)
+{
+    if (co == NULL || co->n > max_steps ||
+        !(fabsf(st->v_rod_m_per_s - st->v_slider_m_per_s) < co->v_rel_max_m_per_s) ||
+        !ss_waveform_straight_f32(wave, wst, co->n)) {
+        return 0;
+    }
+    const float rate = cfg->piezo_gain_m_per_v * ss_waveform_slope_f32(wave, wst);
+    return fabsf(st->v_rod_m_per_s - rate) < co->v_ring_max_m_per_s;
+}
+
+/* ss_actuator_coarse_step_f32's body, inlined into the coarse run's loop */
+SS_FORCE_INLINE ss_status_t coarse_step(const ss_actuator_config_f32_t *cfg,
+                                        const ss_actuator_coarse_f32_t *co, ss_actuator_state_f32_t *st,
+                                        const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
+                                        uint32_t max_steps, uint32_t *taken)
+{
+    if (!coarse_allowed(cfg, co, st, wave, wst, max_steps)) {
+        const ss_status_t status = wave_step(cfg, st, wave, wst);
+        *taken = (status == SS_OK) ? 1u : 0u;
+        return status;
+    }
+    ss_waveform_state_f32_t w = *wst; /* committed with the step */
+    for (uint32_t k = 0; k < co->n; ++k) {
+        ss_waveform_advance_f32(&w);
+    }
+    const ss_status_t status =
+        step_over(cfg, st, co->phi, co->dt_s, ss_waveform_value_f32(wave, &w), 0.0f, 0.0f);
+    *taken = 0u;
+    if (status == SS_OK) {
+        *wst = w;
+        st->steps += co->n - 1u; /* step_finish counted one */
+        *taken = co->n;
+    }
+    return status;
+}
+
+ss_status_t ss_actuator_coarse_step_f32(const ss_actuator_config_f32_t *cfg,
+                                        const ss_actuator_coarse_f32_t *co, ss_actuator_state_f32_t *st,
+                                        const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
+                                        uint32_t max_steps, uint32_t *taken)
+{
+    if (cfg == NULL || st == NULL || wave == NULL || wst == NULL || taken == NULL) {
+        return SS_ERR_NULL;
+    }
+    *taken = 0u;
+    return (max_steps == 0u) ? SS_OK : coarse_step(cfg, co, st, wave, wst, max_steps, taken);
 }
 
 void ss_actuator_place_slider_f32(ss_actuator_state_f32_t *st, float x_m)
@@ -673,7 +772,7 @@ SS_FORCE_INLINE ss_status_t lane_start_step(lane_t *lane, carry_t *c)
     float frac;
     float corner_v;
     const float drive_v = wave_next(j->wave, j->wst, &frac, &corner_v);
-    return step_start(j->cfg, j->st, drive_v, frac, corner_v, c);
+    return step_start(j->cfg, j->st, j->st->phi, j->cfg->dt_s, drive_v, frac, corner_v, c);
 }
 
 ss_status_t ss_actuator_run_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
@@ -692,6 +791,45 @@ ss_status_t ss_actuator_run_f32(const ss_actuator_config_f32_t *cfg, ss_actuator
     }
     *rows_out = job.rows;
     return job.status;
+}
+
+ss_status_t ss_actuator_run_coarse_f32(const ss_actuator_config_f32_t *cfg,
+                                       const ss_actuator_coarse_f32_t *co, ss_actuator_state_f32_t *st,
+                                       const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
+                                       uint32_t n_steps, uint32_t decimation, ss_actuator_trace_f32_t *trace,
+                                       uint32_t *rows_out, uint32_t *steps_out)
+{
+    if (cfg == NULL || st == NULL || wave == NULL || wst == NULL || rows_out == NULL) {
+        return SS_ERR_NULL;
+    }
+    *rows_out = 0u;
+    if (decimation == 0u || (trace != NULL && trace->capacity < n_steps / decimation)) {
+        return SS_ERR_RANGE;
+    }
+    uint32_t model_steps = 0u;
+    uint32_t left = n_steps;
+    uint32_t to_row = decimation;
+    ss_status_t status = SS_OK;
+    while (left > 0u) {
+        uint32_t taken;
+        status = coarse_step(cfg, co, st, wave, wst, (to_row < left) ? to_row : left, &taken);
+        if (status != SS_OK) {
+            break;
+        }
+        ++model_steps;
+        left -= taken;
+        to_row -= taken;
+        if (to_row == 0u) {
+            to_row = decimation;
+            if (trace != NULL) {
+                ss_actuator_record_f32(cfg, st, trace, (*rows_out)++);
+            }
+        }
+    }
+    if (steps_out != NULL) {
+        *steps_out = model_steps;
+    }
+    return status;
 }
 
 /* Simulations a batch steps side by side (ss_actuator_run_many_f32). */

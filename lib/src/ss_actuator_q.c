@@ -486,6 +486,80 @@ void ss_actuator_record_q(const ss_actuator_config_q_t *cfg, const ss_actuator_s
     }
 }
 
+/* A coarse step may be taken (as coarse_allowed of ss_actuator_f32.c): co->n steps fit, the contact
+ * sticks, the drive is straight over them, and the rod is quiet, which needs the drive at their end
+ * (*w_end, *drive_end: the player advanced a copy's n steps). */
+SS_FORCE_INLINE int coarse_allowed(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
+                                   const ss_actuator_state_q_t *st, const ss_waveform_config_q_t *wave,
+                                   const ss_waveform_state_q_t *wst, uint32_t max_steps,
+                                   ss_waveform_state_q_t *w_end, int32_t *drive_end)
+{
+    if (co == NULL || co->n > max_steps ||
+        ss_abs64((int64_t)st->v_rod_q28 - st->v_slider_q28) >= co->v_rel_max_q28 ||
+        !ss_waveform_straight_q(wave, wst, co->n)) {
+        return 0;
+    }
+    *w_end = *wst;
+    for (uint32_t k = 0; k < co->n; ++k) {
+        ss_waveform_advance_q(w_end);
+    }
+    *drive_end = ss_waveform_value_q(wave, w_end);
+    /* m/s at 2^-28 times s at 2^-40, and m/V at 2^-48 times V at 2^-16: both m at 2^-40 */
+    const int64_t rod = ss_shr_round(ss_mul_s32_s64(st->v_rod_q28, co->cfg.dt_q40), 28);
+    const int64_t strain =
+        ss_shr_round(ss_mul_s32_s64(cfg->piezo_gain_q48, ss_sat32((int64_t)*drive_end - st->drive_q16)), 24);
+    return ss_abs64(rod - strain) < co->ring_max_q40;
+}
+
+ss_status_t ss_actuator_run_coarse_q(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
+                                     ss_actuator_state_q_t *st, const ss_waveform_config_q_t *wave,
+                                     ss_waveform_state_q_t *wst, uint32_t n_steps, uint32_t decimation,
+                                     ss_actuator_trace_q_t *trace, uint32_t *rows_out, uint32_t *steps_out)
+{
+    if (cfg == NULL || st == NULL || wave == NULL || wst == NULL || rows_out == NULL) {
+        return SS_ERR_NULL;
+    }
+    *rows_out = 0u;
+    if (decimation == 0u || (trace != NULL && trace->capacity < n_steps / decimation)) {
+        return SS_ERR_RANGE;
+    }
+    uint32_t model_steps = 0u;
+    uint32_t left = n_steps;
+    uint32_t to_row = decimation;
+    ss_status_t status = SS_OK;
+    while (left > 0u && status == SS_OK) {
+        ss_waveform_state_q_t w_end;
+        int32_t drive_end = 0;
+        uint32_t taken = 1u;
+        if (coarse_allowed(cfg, co, st, wave, wst, (to_row < left) ? to_row : left, &w_end, &drive_end)) {
+            status = step(&co->cfg, st, drive_end, 0, 0);
+            if (status == SS_OK) {
+                *wst = w_end;
+                st->steps += co->n - 1u; /* step counted one */
+                taken = co->n;
+            }
+        } else {
+            status = ss_actuator_wave_step_q(cfg, st, wave, wst);
+        }
+        if (status != SS_OK) {
+            break;
+        }
+        ++model_steps;
+        left -= taken;
+        to_row -= taken;
+        if (to_row == 0u) {
+            to_row = decimation;
+            if (trace != NULL) {
+                ss_actuator_record_q(cfg, st, trace, (*rows_out)++);
+            }
+        }
+    }
+    if (steps_out != NULL) {
+        *steps_out = model_steps;
+    }
+    return status;
+}
+
 ss_status_t ss_actuator_run_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
                               const ss_waveform_config_q_t *wave, ss_waveform_state_q_t *wst,
                               uint32_t n_steps, uint32_t decimation, ss_actuator_trace_q_t *trace,

@@ -281,6 +281,34 @@ int32_t ss_volts_to_q16(double v)
     return (int32_t)r;
 }
 
+ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t n,
+                                    ss_actuator_coarse_q_t *out, const char **bad_field)
+{
+    const char *dummy = "";
+    const char **bad = (bad_field != NULL) ? bad_field : &dummy;
+    ss_actuator_coarse_f32_t co;
+    if (out == NULL) {
+        *bad = "out";
+        return SS_ERR_NULL;
+    }
+    ss_status_t status = ss_actuator_coarse_init_f32(in, n, &co, bad); /* its rules and bounds */
+    if (status != SS_OK) {
+        return status;
+    }
+    ss_actuator_config_f32_t at_n = *in;
+    at_n.dt_s = co.dt_s;
+    status = ss_actuator_config_to_q(&at_n, &out->cfg, bad);
+    if (status != SS_OK) {
+        return status;
+    }
+    out->n = n;
+    out->v_rel_max_q28 = (int32_t)floor((double)co.v_rel_max_m_per_s * SS_QF_ONE(SS_QF_VELOCITY) + 0.5);
+    out->ring_max_q40 =
+        (int32_t)floor((double)co.v_ring_max_m_per_s * (double)co.dt_s * SS_QF_ONE(SS_QF_LENGTH) + 0.5);
+    out->pad = 0;
+    return SS_OK;
+}
+
 ss_status_t ss_waveform_config_to_q(const ss_waveform_config_f32_t *in, ss_waveform_config_q_t *out,
                                     const char **bad_field)
 {

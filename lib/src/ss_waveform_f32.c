@@ -170,6 +170,35 @@ int ss_waveform_corner_f32(const ss_waveform_config_f32_t *cfg, const ss_wavefor
     return 1;
 }
 
+int ss_waveform_straight_f32(const ss_waveform_config_f32_t *cfg, const ss_waveform_state_f32_t *st,
+                             uint32_t n)
+{
+    const int holding =
+        (cfg->kind == SS_WAVE_SAWTOOTH) ? st->index >= cfg->cycles : st->index + 1u >= cfg->n_samples;
+    if (holding) {
+        return 1;
+    }
+    /* the corner the player would find inside one of the steps, as ss_waveform_corner_f32 asks */
+    const float tau = st->tau0_s + (float)st->j * st->dt_s;
+    return st->corner_s - tau >= ((float)n - SS_WAVEFORM_CORNER_MIN_FRAC) * st->dt_s;
+}
+
+float ss_waveform_slope_f32(const ss_waveform_config_f32_t *cfg, const ss_waveform_state_f32_t *st)
+{
+    if (cfg->kind == SS_WAVE_SAWTOOTH) {
+        if (st->index >= cfg->cycles) {
+            return 0.0f;
+        }
+        /* both directions rise from offset to the peak, then fall back (ss_sawtooth_at_phase_f32) */
+        return (st->corner_s < st->period_s) ? cfg->amplitude_v / st->peak_s
+                                             : -cfg->amplitude_v / (st->period_s - st->peak_s);
+    }
+    if (st->index + 1u >= cfg->n_samples) {
+        return 0.0f;
+    }
+    return (cfg->samples_v[st->index + 1u] - cfg->samples_v[st->index]) / st->period_s;
+}
+
 ss_status_t ss_waveform_fill_f32(const ss_waveform_config_f32_t *cfg, ss_waveform_state_f32_t *st, float *out,
                                  uint32_t n)
 {

@@ -149,6 +149,23 @@ int ss_waveform_corner_q(const ss_waveform_config_q_t *cfg, const ss_waveform_st
     return 1;
 }
 
+int ss_waveform_straight_q(const ss_waveform_config_q_t *cfg, const ss_waveform_state_q_t *st, uint32_t n)
+{
+    if (st->index >= cfg->cycles || n == 0u) {
+        return 1; /* holding */
+    }
+    const uint64_t s = st->step_q64;
+    if (s > UINT64_MAX / n) {
+        return 0; /* more than a period */
+    }
+    /* the next corner as ss_waveform_corner_q finds it, d ahead of the phase */
+    const uint64_t r = (uint64_t)cfg->rise_q32 << 32;
+    const uint64_t peak = (cfg->direction < 0) ? (uint64_t)0 - r : r;
+    const uint64_t p = st->phase_q64;
+    const uint64_t d = ((p < peak) ? peak : 0u) - p;
+    return s * n - (s >> 10) <= d;
+}
+
 ss_status_t ss_waveform_fill_q(const ss_waveform_config_q_t *cfg, ss_waveform_state_q_t *st, int32_t *out_q16,
                                uint32_t n)
 {
