@@ -728,6 +728,16 @@ def run_f32(
     return r.result(status, written.value)
 
 
+def _coarse(make, struct, cfg: ActuatorConfig, n: int):
+    """The library's coarse steps of n steps of cfg's dt (make: ss_actuator_coarse_init_f32, or
+    ss_actuator_coarse_to_q for the q family), or a NativeError naming the bad field."""
+    co, bad = struct(), C.c_char_p()
+    status = make(C.byref(cfg), n, C.byref(co), C.byref(bad))
+    if status != SS_OK:
+        raise NativeError(status, f"coarse steps ({(bad.value or b'').decode()})")
+    return co
+
+
 def run_f32_coarse(
     cfg: ActuatorConfig,
     wave: WaveformConfig,
@@ -736,21 +746,11 @@ def run_f32_coarse(
     coarse_steps: int,
     x0_m: float = 0.0,
     heat0_j: float = 0.0,
-    v_rel_max_m_per_s: float | None = None,
-    v_ring_max_m_per_s: float | None = None,
 ) -> tuple[dict[str, np.ndarray], float, int]:
     """run_f32 with coarse steps of coarse_steps steps where the contact sticks
-    (ss_actuator_run_coarse_f32; LuGre only), the library's bounds unless given. Returns run_f32's
-    columns and heat, and the steps the model took."""
-    co = ActuatorCoarse()
-    bad = C.c_char_p()
-    status = lib.ss_actuator_coarse_init_f32(C.byref(cfg), coarse_steps, C.byref(co), C.byref(bad))
-    if status != 0:
-        raise NativeError(status, f"coarse steps ({(bad.value or b'').decode()})")
-    if v_rel_max_m_per_s is not None:
-        co.v_rel_max_m_per_s = v_rel_max_m_per_s
-    if v_ring_max_m_per_s is not None:
-        co.v_ring_max_m_per_s = v_ring_max_m_per_s
+    (ss_actuator_run_coarse_f32; LuGre only). Returns run_f32's columns and heat, and the steps the
+    model took."""
+    co = _coarse(lib.ss_actuator_coarse_init_f32, ActuatorCoarse, cfg, coarse_steps)
     r = _RunF32(cfg, wave, n_steps, decimation, x0_m, heat0_j)
     written, taken = C.c_uint32(0), C.c_uint32(0)
     status = lib.ss_actuator_run_coarse_f32(
@@ -825,11 +825,7 @@ def _run_q(
     cq, wq = to_q(cfg, wave)
     co = None
     if coarse_steps > 1:
-        co = ActuatorCoarseQ()
-        bad = C.c_char_p()
-        status = lib.ss_actuator_coarse_to_q(C.byref(cfg), coarse_steps, C.byref(co), C.byref(bad))
-        if status != 0:
-            raise NativeError(status, f"coarse steps ({(bad.value or b'').decode()})")
+        co = _coarse(lib.ss_actuator_coarse_to_q, ActuatorCoarseQ, cfg, coarse_steps)
     rows = n_steps // decimation
     cols = {k: np.zeros(rows + 1, dt) for k, dt in TRACE_Q_COLUMNS.items()}
     st, wst = new_actuator_state_q(), new_waveform_state_q()

@@ -381,9 +381,7 @@ SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_a
                                        const float phi[4], float dt, float drive_v, float corner_frac,
                                        float corner_v, carry_t *c)
 {
-    if (cfg == NULL || st == NULL) {
-        return SS_ERR_NULL;
-    }
+    /* cfg and st: checked by every caller (step, the coarse entry points, lane_start) */
     if (!isfinite(drive_v)) {
         return SS_ERR_NONFINITE;
     }
@@ -740,17 +738,20 @@ SS_FORCE_INLINE int lane_start(lane_t *lane, ss_actuator_run_job_f32_t *j)
     return j->n_steps > 0u;
 }
 
-/* After a lane's step: its row when it is a decimation-th step; 1 while steps are left. */
-SS_FORCE_INLINE int lane_after_step(lane_t *lane)
+/* After a lane's step of `taken` steps of dt (1; a coarse step's n, which never passes a row or the
+ * end): its row when it ends on a decimation-th step; 1 while steps are left. */
+SS_FORCE_INLINE int lane_after_steps(lane_t *lane, uint32_t taken)
 {
     ss_actuator_run_job_f32_t *j = lane->job;
-    if (--lane->to_row == 0u) {
+    lane->to_row -= taken;
+    if (lane->to_row == 0u) {
         lane->to_row = j->decimation;
         if (j->trace != NULL) {
             ss_actuator_record_f32(j->cfg, j->st, j->trace, j->rows++);
         }
     }
-    return --lane->left != 0u;
+    lane->left -= taken;
+    return lane->left != 0u;
 }
 
 /* One step of the lane's job, and its row; 1 while steps are left and it has not failed. */
@@ -761,7 +762,7 @@ SS_FORCE_INLINE int lane_step(lane_t *lane)
     if (j->status != SS_OK) {
         return 0;
     }
-    return lane_after_step(lane);
+    return lane_after_steps(lane, 1u);
 }
 
 /* The drive of the lane's next step from its player (wave_step's first half), then the step's
@@ -799,37 +800,29 @@ ss_status_t ss_actuator_run_coarse_f32(const ss_actuator_config_f32_t *cfg,
                                        uint32_t n_steps, uint32_t decimation, ss_actuator_trace_f32_t *trace,
                                        uint32_t *rows_out, uint32_t *steps_out)
 {
-    if (cfg == NULL || st == NULL || wave == NULL || wst == NULL || rows_out == NULL) {
+    if (rows_out == NULL) {
         return SS_ERR_NULL;
     }
-    *rows_out = 0u;
-    if (decimation == 0u || (trace != NULL && trace->capacity < n_steps / decimation)) {
-        return SS_ERR_RANGE;
-    }
+    /* ss_actuator_run_f32's lane: its checks and rows */
+    ss_actuator_run_job_f32_t job = {cfg, st, wave, wst, n_steps, decimation, trace, 0u, SS_OK};
+    lane_t lane;
     uint32_t model_steps = 0u;
-    uint32_t left = n_steps;
-    uint32_t to_row = decimation;
-    ss_status_t status = SS_OK;
-    while (left > 0u) {
+    if (lane_start(&lane, &job)) {
         uint32_t taken;
-        status = coarse_step(cfg, co, st, wave, wst, (to_row < left) ? to_row : left, &taken);
-        if (status != SS_OK) {
-            break;
-        }
-        ++model_steps;
-        left -= taken;
-        to_row -= taken;
-        if (to_row == 0u) {
-            to_row = decimation;
-            if (trace != NULL) {
-                ss_actuator_record_f32(cfg, st, trace, (*rows_out)++);
+        do {
+            job.status = coarse_step(cfg, co, st, wave, wst,
+                                     (lane.to_row < lane.left) ? lane.to_row : lane.left, &taken);
+            if (job.status != SS_OK) {
+                break;
             }
-        }
+            ++model_steps;
+        } while (lane_after_steps(&lane, taken));
     }
+    *rows_out = job.rows;
     if (steps_out != NULL) {
         *steps_out = model_steps;
     }
-    return status;
+    return job.status;
 }
 
 /* Simulations a batch steps side by side (ss_actuator_run_many_f32). */
@@ -893,7 +886,7 @@ ss_status_t ss_actuator_run_many_f32(ss_actuator_run_job_f32_t *jobs, uint32_t n
                     const float f_free =
                         friction_force_parts(cfg, lane[k].job->st, &carry[k], &parts[k], &slopes);
                     step_finish(cfg, lane[k].job->st, &carry[k], f_free, &slopes);
-                    busy[k] = lane_after_step(&lane[k]);
+                    busy[k] = lane_after_steps(&lane[k], 1u);
                 }
                 all = all && busy[k];
             }
