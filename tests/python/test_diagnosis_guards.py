@@ -252,3 +252,40 @@ def test_a_further_cause_is_fitted_only_if_screened_to_carry_half_its_final_shar
     # predicted within 3 x the noise (mse 4: 2 x), half of the explained model's 50 %
     assert s.could_carry(_screened(6.0, 4.0))  # 40 %
     assert not s.could_carry(_screened(4.6, 4.0))  # 17 %
+
+
+def test_a_prediction_made_once_is_kept_and_only_for_what_decides_it(monkeypatch):
+    """fit keeps each run's latest predictions (_cached): asked again for a model with the same
+    law, parameters and effects (its causes may differ: they name effects, not set them), no run
+    is simulated and the numbers are the same; a model one effect apart simulates every run; a
+    copy of a run, or one sent to a process pool, starts with nothing kept."""
+    import copy
+    import pickle
+    from dataclasses import replace
+    from pathlib import Path
+
+    from stickslip.diagnosis import fit as F
+
+    root = Path(__file__).resolve().parents[2]
+    runs = F.prepare_all(load(root / "examples" / "hidden-effect").runs)[:3]
+    simulated = []
+    real = F.simulate_many
+
+    def counting(requests):
+        simulated.append(len(requests))
+        return real(requests)
+
+    monkeypatch.setattr(F, "simulate_many", counting)
+    m = Model(ActuatorParams())
+    first = F.predict_all(runs, m, pooled=False)
+    again = F.predict_all(runs, replace(m, causes=("external_load",)), pooled=False)
+    assert simulated == [3, 0]
+    for a, b in zip(first, again):
+        assert a is b and not a.flags.writeable  # one array, shared: nobody may change it
+    loaded = replace(m, effects=Effects(load_n=0.05))
+    moved = F.predict_all(runs, loaded, pooled=False)
+    assert simulated == [3, 0, 3]
+    assert all(np.max(np.abs(a - b)) > 1e-9 for a, b in zip(first, moved))
+    assert len(runs[0].sims) == 2
+    for other in (replace(runs[0]), pickle.loads(pickle.dumps(runs[0])), copy.copy(runs[0])):
+        assert len(other.sims) == 0
