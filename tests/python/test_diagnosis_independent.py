@@ -25,8 +25,10 @@ import numpy as np
 import pytest
 
 from stickslip import independent
-from stickslip.diagnosis.catalog import CAUSES
-from stickslip.diagnosis.pipeline import diagnose
+from stickslip.dataset import load
+from stickslip.diagnosis.catalog import CAUSES, LAW_PARAMS
+from stickslip.diagnosis.fit import Free, Model, first_stage_model, prepare_all
+from stickslip.diagnosis.pipeline import diagnose, noise_level, split_runs
 
 NOT_EFFECTS = {"none", "parameter_miscalibration", "friction_law"}
 RATE_HZ = 250e3
@@ -186,3 +188,30 @@ def test_weak_sensor_error_the_law_absorbs_names_no_effect(tmp_path, executor):
     _, j = _run(tmp_path, "lugre", ("sensor_cubic",), executor)
     assert [c for c in j["causes"] if c not in NOT_EFFECTS] == [], j["causes"]
     assert all(c.get("screened_only") for c in j["candidates"] if c["name"] in CAUSES)
+
+
+def test_a_sharp_base_resonance_is_fitted_in_its_own_basin(tmp_path):
+    # held-out seed 105: a base at 7.9 kHz and 28 g, damped 0.028. The cost has a basin per pair
+    # of mass and frequency; with the mass's grid in factors of 2 the best start was 20 g at
+    # 11 kHz, and the fit stopped in the next basin (32.6 g, 11.5 kHz), which the cross-validation
+    # then refused (catalog.py). The first stage alone, from nominal LuGre (the generator's law)
+    # with its base parameters free and the grid, as the diagnosis fits a first base: the
+    # frequency within 1 % (with the grid in factors of 2: 11.3 kHz).
+    seed = 105
+    rng = np.random.default_rng(seed)
+    drawn = {"base_compliance": independent.draw_effect("base_compliance", rng)}
+    path = tmp_path / "ds"
+    truth = independent.generate(
+        path, law="lugre", effects=drawn, seed=seed, sample_rate_hz=RATE_HZ
+    )
+    b = truth["effects"]["base_compliance"]
+    assert b["base_freq_hz"] > 7500.0  # the sharp case this test is about
+    ds = load(path)
+    runs = prepare_all(ds.runs)
+    train, _ = split_runs(runs)
+    _, noise, _ = noise_level(ds, runs)
+    start = Model(ds.actuator, law="lugre")
+    free = Free(LAW_PARAMS["lugre"], ("base_compliance",))
+    m, _ = first_stage_model(train, ds.actuator, start, free, noise)
+    assert m.effects.base_freq_hz == pytest.approx(b["base_freq_hz"], rel=0.01)
+    assert m.effects.base_mass_kg == pytest.approx(b["base_mass_kg"], rel=0.1)
