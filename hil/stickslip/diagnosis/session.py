@@ -54,11 +54,13 @@ from .guards import (
 )
 from .result import Candidate
 from .screen import (
+    NOMINAL_REFINED,
     Screened,
     predicted_share,
     probe_points,
     probe_residual,
     promising,
+    refine_at_nominal,
     screen,
     start_values,
 )
@@ -73,13 +75,6 @@ TOP_FIT = 3  # causes fitted in full per round, the best screened first
 # and removed 99.9-100 % once fitted; on the independent generator no second cause survived to an
 # answer, and those fits were half of the slowest diagnoses (hysteresis 101-103: 30-35 s of 64-80).
 SCREEN_SHARE_OF_NEED = 0.5
-# Causes whose best probe at nominal (one parameter on a grid) is refined by a golden-section
-# search between its grid neighbours. A slew limit's per-cycle cost at nominal changes a hundredfold
-# over 8 % of the slew rate: on the independent slew seed 106 (1.458 V/us) the grid's 1.345 and
-# 1.6 V/us gave 1.85 and 3.9 x the calibrated parent's cost, 1.458 V/us 0.012 x; the cause was
-# then fitted from the bent calibration (N 2.1 N, mu_s 2.1), removed 11 % and was not found.
-NOMINAL_REFINED = ("amplifier_slew_limit",)
-NOMINAL_REFINE_STEPS = 8  # the bracket (a quarter octave a side) to 0.7 % in the rate
 
 
 def fitted(fu: Future) -> tuple[FitResult, Evaluation]:
@@ -213,16 +208,30 @@ class Session:
             for c in causes
             for pts in [probe_points(c)]
         ]
-        for k, (c, pts, fs, fn) in enumerate(jobs):
-            if c not in NOMINAL_REFINED:
-                continue
-            # the grid's best point under each law, refined along the cause's one parameter; the
-            # new points are probed as the grid's are (on the parent, and at nominal per law)
-            extra = []
-            for law, fl in fn.items():
-                v = self._refine_nominal(
-                    m_nom[law], c, pts, [float(np.sum(f.result() ** 2)) for f in fl]
+        # the grid's best point under each law, refined along the cause's refined parameter (each
+        # search a job: one law's probes one after the other); the new points are probed as the
+        # grid's are (on the parent, and at nominal per law)
+        searches = {
+            k: [
+                self.ex.submit(
+                    refine_at_nominal,
+                    self.val,
+                    m_nom[law],
+                    c,
+                    pts,
+                    [float(np.sum(f.result() ** 2)) for f in fl],
+                    noise,
                 )
+                for law, fl in fn.items()
+            ]
+            for k, (c, pts, fs, fn) in enumerate(jobs)
+            if c in NOMINAL_REFINED
+        }
+        for k, found in searches.items():
+            c, pts, fs, fn = jobs[k]
+            extra = []
+            for fu in found:
+                v = fu.result()
                 if v is not None and v not in pts and v not in extra:
                     extra.append(v)
             if extra:
@@ -280,40 +289,6 @@ class Session:
         # predicted to leave (absolute errors favour the better calibration's causes whatever
         # they add); else by the predicted error, as always
         return sorted(out.values(), key=share_left if others else (lambda x: x.rss_val))
-
-    def _refine_nominal(
-        self, mn: Model, cause: str, pts: list[dict[str, float]], costs: list[float]
-    ) -> dict[str, float] | None:
-        """A golden-section search, on the per-cycle cost at nominal (the validation runs), of
-        the cause's one parameter between the grid's neighbours of its best point (log scale):
-        the point, if it beats the grid's best."""
-        (spec,) = CAUSE_PARAMS[cause]
-        name = spec.name
-        i = int(np.argmin(costs))
-        vals = [p[name] for p in pts]
-        lo, hi = math.log(vals[max(i - 1, 0)]), math.log(vals[min(i + 1, len(vals) - 1)])
-        cost: dict[float, float] = {math.log(vals[i]): costs[i]}
-
-        def at(x: float) -> float:
-            if x not in cost:
-                r = probe_residual(self.val, mn, cause, {name: math.exp(x)}, self.noise_m, True)
-                cost[x] = float(np.sum(r**2))
-            return cost[x]
-
-        g = (math.sqrt(5.0) - 1.0) / 2.0
-        a, b = lo, hi
-        x1, x2 = b - g * (b - a), a + g * (b - a)
-        for _ in range(NOMINAL_REFINE_STEPS):  # one new probe a step
-            if at(x1) < at(x2):
-                b, x2 = x2, x1
-                x1 = b - g * (b - a)
-            else:
-                a, x1 = x1, x2
-                x2 = a + g * (b - a)
-        best = min(cost, key=cost.__getitem__)
-        if cost[best] >= costs[i]:
-            return None
-        return {name: math.exp(best)}
 
     def extend(self, parent: Candidate, causes: list[str]) -> list[Candidate]:
         """The causes that screen best on top of parent, fitted in full: with the parent's causes
