@@ -191,6 +191,20 @@ def test_weak_sensor_error_the_law_absorbs_names_no_effect(tmp_path, executor):
     assert all(c.get("screened_only") for c in j["candidates"] if c["name"] in CAUSES)
 
 
+def _fit_inputs(tmp_path, law: str, effects: tuple[str, ...], seed: int):
+    """An independent dataset as the diagnosis fits it: (truth, dataset, training runs,
+    validation runs, noise in m), for the tests that call the fits and probes directly."""
+    rng = np.random.default_rng(seed)
+    drawn = {e: independent.draw_effect(e, rng) for e in effects}
+    path = tmp_path / f"ds_{law}_{'+'.join(effects)}_{seed}"
+    truth = independent.generate(path, law=law, effects=drawn, seed=seed, sample_rate_hz=RATE_HZ)
+    ds = load(path)
+    runs = prepare_all(ds.runs)
+    train, val = split_runs(runs)
+    _, noise, _ = noise_level(ds, runs)
+    return truth, ds, train, val, noise
+
+
 def test_a_sharp_base_resonance_is_fitted_in_its_own_basin(tmp_path):
     # held-out seed 105: a base at 7.9 kHz and 28 g, damped 0.028. The cost has a basin per pair
     # of mass and frequency; with the mass's grid in factors of 2 the best start was 20 g at
@@ -198,19 +212,9 @@ def test_a_sharp_base_resonance_is_fitted_in_its_own_basin(tmp_path):
     # then refused (catalog.py). The first stage alone, from nominal LuGre (the generator's law)
     # with its base parameters free and the grid, as the diagnosis fits a first base: the
     # frequency within 1 % (with the grid in factors of 2: 11.3 kHz).
-    seed = 105
-    rng = np.random.default_rng(seed)
-    drawn = {"base_compliance": independent.draw_effect("base_compliance", rng)}
-    path = tmp_path / "ds"
-    truth = independent.generate(
-        path, law="lugre", effects=drawn, seed=seed, sample_rate_hz=RATE_HZ
-    )
+    truth, ds, train, _, noise = _fit_inputs(tmp_path, "lugre", ("base_compliance",), 105)
     b = truth["effects"]["base_compliance"]
     assert b["base_freq_hz"] > 7500.0  # the sharp case this test is about
-    ds = load(path)
-    runs = prepare_all(ds.runs)
-    train, _ = split_runs(runs)
-    _, noise, _ = noise_level(ds, runs)
     start = Model(ds.actuator, law="lugre")
     free = Free(LAW_PARAMS["lugre"], ("base_compliance",))
     m, _ = first_stage_model(train, ds.actuator, start, free, noise)
@@ -221,14 +225,7 @@ def test_a_sharp_base_resonance_is_fitted_in_its_own_basin(tmp_path):
 def _nominal_hysteresis_probes(tmp_path, law: str, effects: tuple[str, ...], seed: int):
     """Per-cycle cost (validation runs) of the hysteresis' grid probes on nominal LuGre, and the
     point and cost the search along its amplitude finds (None: nothing better than the grid)."""
-    rng = np.random.default_rng(seed)
-    drawn = {e: independent.draw_effect(e, rng) for e in effects}
-    path = tmp_path / f"ds_{law}"
-    independent.generate(path, law=law, effects=drawn, seed=seed, sample_rate_hz=RATE_HZ)
-    ds = load(path)
-    runs = prepare_all(ds.runs)
-    _, val = split_runs(runs)
-    _, noise, _ = noise_level(ds, runs)
+    _, ds, _, val, noise = _fit_inputs(tmp_path, law, effects, seed)
     m = Model(ds.actuator, law="lugre")
     pts = probe_points("piezo_hysteresis")
 
