@@ -5,6 +5,7 @@
 #include <stddef.h>
 
 #include "ss_check.h"
+#include "ss_effects_inline_f32.h"
 #include "ss_exp_f32.h"
 #include "ss_friction_parts_f32.h"
 #include "ss_inline.h"
@@ -360,8 +361,10 @@ static float drift_with_corner(const ss_actuator_config_f32_t *cfg, ss_actuator_
     const float t2 = dt - t1;
     const float x_b0 = st->fx.x_base_m;
     const float a0 = st->x_p_m + x_b0;
-    const float x_pc = ss_effects_drive_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, corner_v, t1);
-    const float x_p1 = ss_effects_drive_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, t2);
+    const float x_pc =
+        ss_effects_drive_inline_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, corner_v, t1);
+    const float x_p1 =
+        ss_effects_drive_inline_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, t2);
     const float ac = x_pc + (x_b0 + st->fx.v_base_m_per_s * t1);
     const float a1 = x_p1 + (x_b0 + st->fx.v_base_m_per_s * dt);
     float phi[4];
@@ -405,7 +408,7 @@ SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_a
         x_p1 = drift_with_corner(cfg, st, dt, drive_v, corner_frac, corner_v);
     } else {
         /* one straight piece, with the flow over dt from init (or the coarse step's) */
-        x_p1 = ss_effects_drive_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, dt);
+        x_p1 = ss_effects_drive_inline_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, dt);
         const float a1 = x_p1 + (x_b0 + st->fx.v_base_m_per_s * dt);
         rod_drift(cfg, phi, dt, a0, a1, st->fx.v_base_m_per_s, &st->x_rod_m, &st->v_rod_m_per_s);
     }

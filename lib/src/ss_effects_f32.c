@@ -4,6 +4,7 @@
 #include <stddef.h>
 
 #include "ss_check.h"
+#include "ss_effects_inline_f32.h"
 #include "ss_exp_f32.h"
 
 /* Friction never scales below this share of its nominal value: a scaled Fs stays positive. */
@@ -75,11 +76,12 @@ void ss_effects_init_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f3
 float ss_effects_drive_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f32_t *st, float gain_m_per_v,
                            float command_v, float dt_s)
 {
-    if (cfg->slew_v_per_s == 0.0f && cfg->creep_ratio == 0.0f && cfg->hysteresis_alpha == 0.0f) {
-        st->amp_v = command_v; /* the base model's ideal strain, the same product */
-        st->strain_m = command_v * gain_m_per_v;
-        return st->strain_m;
-    }
+    return ss_effects_drive_inline_f32(cfg, st, gain_m_per_v, command_v, dt_s);
+}
+
+float ss_effects_drive_shaped_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f32_t *st,
+                                  float gain_m_per_v, float command_v, float dt_s)
+{
     /* amplifier: a slew-rate limit on the output voltage */
     float amp = command_v;
     if (cfg->slew_v_per_s > 0.0f) {

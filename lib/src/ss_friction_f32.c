@@ -4,7 +4,7 @@
 #include <stddef.h>
 
 #include "ss_check.h"
-#include "ss_exp_f32.h"
+#include "ss_friction_inline_f32.h"
 
 ss_friction_config_f32_t ss_friction_config_from_mu_f32(float mu_s, float mu_d, float normal_force_n,
                                                         float vs_m_per_s, float sigma0_n_per_m,
@@ -73,16 +73,12 @@ ss_status_t ss_friction_config_check_f32(const ss_friction_config_f32_t *cfg, co
 
 float ss_stribeck_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s)
 {
-    if (v_m_per_s == 0.0f) {
-        return cfg->fc_n + (cfg->fs_n - cfg->fc_n); /* exp(0) = 1: the same sum, no exp (sticking) */
-    }
-    const float r = v_m_per_s / cfg->vs_m_per_s;
-    return cfg->fc_n + (cfg->fs_n - cfg->fc_n) * ss_exp_neg_f32(r * r);
+    return ss_stribeck_inline_f32(cfg, v_m_per_s);
 }
 
 float ss_asymmetry_factor_f32(const ss_friction_config_f32_t *cfg, float load)
 {
-    return (cfg->asymmetry == 0.0f) ? 1.0f : 1.0f + cfg->asymmetry * ss_sign_f32(load);
+    return ss_asymmetry_inline_f32(cfg, load);
 }
 
 float ss_stribeck_slope_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s)
@@ -94,12 +90,5 @@ float ss_stribeck_slope_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s
 
 float ss_stribeck_with_slope_f32(const ss_friction_config_f32_t *cfg, float v_m_per_s, float *slope_ns_per_m)
 {
-    if (v_m_per_s == 0.0f) {
-        *slope_ns_per_m = 0.0f;
-        return cfg->fc_n + (cfg->fs_n - cfg->fc_n);
-    }
-    const float r = v_m_per_s / cfg->vs_m_per_s;
-    const float e = ss_exp_neg_f32(r * r);
-    *slope_ns_per_m = -2.0f * (cfg->fs_n - cfg->fc_n) * r / cfg->vs_m_per_s * e;
-    return cfg->fc_n + (cfg->fs_n - cfg->fc_n) * e;
+    return ss_stribeck_with_slope_inline_f32(cfg, v_m_per_s, slope_ns_per_m);
 }

@@ -5,6 +5,7 @@
 
 #include "ss_check.h"
 #include "ss_exp_f32.h"
+#include "ss_friction_inline_f32.h"
 
 /* Share alpha_i of the slip level carried by element i (0-based): (2i + 1) / N^2, exact in float
  * for N a power of two. */
@@ -56,13 +57,15 @@ void ss_gms_advance_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t 
         /* Gross sliding: the level relaxes to g(v) over the distance g / sigma0, as LS's sliding
          * part does (exact for v frozen over the step, stable at any step). In presliding some
          * element sticks and the level stays put, so presliding is exactly rate independent. */
-        const float g = ss_stribeck_f32(cfg, dx_m / dt_s);
+        const float g = ss_stribeck_inline_f32(cfg, dx_m / dt_s);
         st->level_n = g + (st->level_n - g) * ss_exp_neg_f32(cfg->sigma0_n_per_m * fabsf(dx_m) / g);
     }
     float sum = 0.0f;
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
         const float w = share(i) * st->level_n;
-        st->f_n[i] = fminf(fmaxf(trial[i], -w), w); /* an element past its slip level slips */
+        /* an element past its slip level slips; compares, not libm's fminf / fmaxf calls (the same
+         * result for a slip level w > 0, a NaN trial included: -w) */
+        st->f_n[i] = (trial[i] > w) ? w : ((trial[i] >= -w) ? trial[i] : -w);
         sum += st->f_n[i];
     }
     st->elastic_n = sum;
@@ -86,7 +89,7 @@ float ss_gms_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_gms_stat
                           ss_friction_slopes_f32_t *slopes)
 {
     /* asymmetric friction scales the contact's elastic force, as in LS */
-    const float asym = ss_asymmetry_factor_f32(cfg, st->elastic_n);
+    const float asym = ss_asymmetry_inline_f32(cfg, st->elastic_n);
     if (slopes != NULL) {
         slopes->dfdv_ns_per_m = cfg->sigma2_ns_per_m;
         /* an element at its slip level takes no more load in the direction it slipped: the last

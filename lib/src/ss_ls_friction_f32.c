@@ -5,6 +5,7 @@
 
 #include "ss_check.h"
 #include "ss_exp_f32.h"
+#include "ss_friction_inline_f32.h"
 #include "ss_friction_parts_f32.h"
 #include "ss_inline.h"
 
@@ -172,7 +173,7 @@ SS_FORCE_INLINE void advance_end(const ss_friction_config_f32_t *cfg, ss_ls_stat
     }
     /* LuGre in the slip: the break-away level s relaxes to g(v_slip) over the distance g/sigma0,
      * exact for a slip velocity frozen over the step. */
-    const float g = ss_stribeck_f32(cfg, slip / dt_s);
+    const float g = ss_stribeck_inline_f32(cfg, slip / dt_s);
     /* no gross slip (presliding, sticking): exp(0) = 1, the same arithmetic without the exp */
     const float decay = (slip == 0.0f) ? 1.0f : ss_exp_neg_f32(cfg->sigma0_n_per_m * fabsf(slip) / g);
     st->level_n = g + (st->level_n - g) * decay;
@@ -217,9 +218,10 @@ float ss_ls_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_ls_state_
     const float share = (gate == 0.0f) ? 0.0f : (1.0f - st->kt_n_per_m / cfg->sigma0_n_per_m) * gate;
     const float vp = v_m_per_s * share;
     float slope = 0.0f;
-    const float g = (slopes != NULL) ? ss_stribeck_with_slope_f32(cfg, vp, &slope) : ss_stribeck_f32(cfg, vp);
+    const float g = (slopes != NULL) ? ss_stribeck_with_slope_inline_f32(cfg, vp, &slope)
+                                     : ss_stribeck_inline_f32(cfg, vp);
     const float zdot = vp * (1.0f - st->level_n / g); /* LuGre's dz/dt once sliding, sigma0 z = s */
-    const float asym = ss_asymmetry_factor_f32(cfg, st->fm_n);
+    const float asym = ss_asymmetry_inline_f32(cfg, st->fm_n);
     const float level_share = st->level_n / cfg->fs_n;
     if (slopes != NULL) {
         const float dzdvp = (1.0f - st->level_n / g) + vp * st->level_n * slope / (g * g);

@@ -5,6 +5,7 @@
 
 #include "ss_check.h"
 #include "ss_exp_f32.h"
+#include "ss_friction_inline_f32.h"
 #include "ss_friction_parts_f32.h"
 #include "ss_inline.h"
 
@@ -31,7 +32,7 @@ SS_FORCE_INLINE void advance_begin(const ss_friction_config_f32_t *cfg, float dx
     s->moves = !(!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f) || dx_m == 0.0f);
     if (s->moves) {
         s->v_m_per_s = dx_m / dt_s;
-        s->g_n = ss_stribeck_f32(cfg, s->v_m_per_s);
+        s->g_n = ss_stribeck_inline_f32(cfg, s->v_m_per_s);
     }
 }
 
@@ -52,8 +53,8 @@ SS_FORCE_INLINE void force_begin(const ss_friction_config_f32_t *cfg, float v_m_
                                  ss_lugre_level_f32_t *l)
 {
     l->slope_ns_per_m = 0.0f;
-    l->g_n = with_slope ? ss_stribeck_with_slope_f32(cfg, v_m_per_s, &l->slope_ns_per_m)
-                        : ss_stribeck_f32(cfg, v_m_per_s);
+    l->g_n = with_slope ? ss_stribeck_with_slope_inline_f32(cfg, v_m_per_s, &l->slope_ns_per_m)
+                        : ss_stribeck_inline_f32(cfg, v_m_per_s);
 }
 
 SS_FORCE_INLINE float force_end(const ss_friction_config_f32_t *cfg, const ss_lugre_state_f32_t *st,
@@ -65,7 +66,7 @@ SS_FORCE_INLINE float force_end(const ss_friction_config_f32_t *cfg, const ss_lu
     const float g = l->g_n;
     const float k = cfg->sigma0_n_per_m * st->z_m / g; /* sigma0 z / g */
     const float zdot = v - fabsf(v) * k;
-    const float asym = ss_asymmetry_factor_f32(cfg, st->z_m);
+    const float asym = ss_asymmetry_inline_f32(cfg, st->z_m);
     if (slopes != NULL) {
         /* d(dz/dt)/dv = 1 - sgn(v) sigma0 z / g + |v| sigma0 z g' / g^2 */
         const float dzdv = 1.0f - ss_sign_f32(v) * k + fabsf(v) * k * slope / g;
@@ -93,7 +94,7 @@ float ss_lugre_step_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_
     }
     ss_lugre_advance_f32(cfg, st, dx_m, dt_s);
     const float v = dx_m / dt_s;
-    st->zdot_m_per_s = v - cfg->sigma0_n_per_m * fabsf(v) * st->z_m / ss_stribeck_f32(cfg, v);
+    st->zdot_m_per_s = v - cfg->sigma0_n_per_m * fabsf(v) * st->z_m / ss_stribeck_inline_f32(cfg, v);
     st->force_n = ss_lugre_force_at_f32(cfg, st, v, NULL);
     return st->force_n;
 }
