@@ -289,7 +289,7 @@ def _select(s: Session, base: Candidate, singles: list[Candidate]):
                 _judged_on_base(s, cand, base)
             tried += 1
             if cand.verdict.confirmed:
-                refined = _refined(s, cand, chosen)
+                refined = _refined(s, cand, chosen, any(parent is p for p in provisional))
                 if refined is not None:
                     accepted = cand
                     break
@@ -429,13 +429,18 @@ def _judged_on_base(s: Session, cand: Candidate, base: Candidate) -> None:
     cand.verdict.reasons.extend(f"against the {base.law} base: {r}" for r in v.reasons)
 
 
-def _refined(s: Session, accepted: Candidate, chosen: Candidate) -> Candidate | None:
+def _refined(
+    s: Session, accepted: Candidate, chosen: Candidate, on_provisional: bool = False
+) -> Candidate | None:
     """The accepted candidate polished from its own optimum and, unless its law was chosen with
     its causes present, its law chosen again. None for a first cause that leaves the model
     unexplained and carries less than the final check will demand of it (UNEXPLAINED_FINAL_SHARE
     of the error the best model without it leaves): kept, it would be dropped there, after the
     rounds it opened (a sensor scale error on independent hysteresis seed 103, a base compliance
-    on clean GMS seed 100: 99 and 146 s), and the round tries its next candidate instead."""
+    on clean GMS seed 100: 99 and 146 s), and the round tries its next candidate instead. None,
+    too, for a pair on a provisional parent (on_provisional) in a model that stays unexplained
+    whose LAW_SENSITIVE cause's size depends on the law: neither of its causes passed alone, so
+    each is held to that test as a first cause is."""
     before = accepted.parent or chosen
     s.say(f"refining {'+'.join(accepted.causes)}")
     f, v = s.submit_fit(
@@ -455,8 +460,19 @@ def _refined(s: Session, accepted: Candidate, chosen: Candidate) -> Candidate | 
     if problems:
         accepted.verdict.reasons.append(f"refined, {'; '.join(problems)}")
         return None
-    if before.causes or explained_enough(refined, s.sensor_noise_m):
+    if explained_enough(refined, s.sensor_noise_m):
         return refined
+    if before.causes:
+        if not on_provisional:
+            return refined
+        # independent clean LS-b seed 118: the LS calibration's misfit (147 x the noise) taken up
+        # by a base at 4.0 kHz with a slew limit beside it, 32.6 x the noise, the pair's guards
+        # and the final check passed
+        weakness = next((w for c in refined.causes if (w := _law_dependence(s, refined, c))), "")
+        if not weakness:
+            return refined
+        accepted.verdict.reasons.append(f"refined with {'+'.join(refined.causes)}, {weakness}")
+        return None
     share = share_removed(s.without_first(refined, before), refined.mse_over_noise)
     weakness = ""
     if share >= UNEXPLAINED_FINAL_SHARE:
