@@ -216,16 +216,18 @@ def _fit_inputs(tmp_path, law: str, effects: tuple[str, ...], seed: int):
     return truth, ds, train, val, noise
 
 
-def test_a_sharp_base_resonance_is_fitted_in_its_own_basin(tmp_path):
+@pytest.mark.parametrize("seed", [105, 118])
+def test_a_sharp_base_resonance_is_fitted_in_its_own_basin(tmp_path, seed):
     # held-out seed 105: a base at 7.9 kHz and 28 g, damped 0.028. The cost has a basin per pair
     # of mass and frequency; with the mass's grid in factors of 2 the best start was 20 g at
     # 11 kHz, and the fit stopped in the next basin (32.6 g, 11.5 kHz), which the cross-validation
-    # then refused (catalog.py). The first stage alone, from nominal LuGre (the generator's law)
-    # with its base parameters free and the grid, as the diagnosis fits a first base: the
-    # frequency within 1 % (with the grid in factors of 2: 11.3 kHz).
-    truth, ds, train, _, noise = _fit_inputs(tmp_path, "lugre", ("base_compliance",), 105)
+    # then refused (catalog.py). Held-out seed 118: 7.3 kHz and 44.7 g, damped 0.042, above the
+    # grid's 40 g of the time; the diagnosis fitted it at 134 g and 9.7 kHz and refused it. The
+    # first stage alone, from nominal LuGre (the generator's law) with its base parameters free
+    # and the grid, as the diagnosis fits a first base: the frequency within 1 %.
+    truth, ds, train, _, noise = _fit_inputs(tmp_path, "lugre", ("base_compliance",), seed)
     b = truth["effects"]["base_compliance"]
-    assert b["base_freq_hz"] > 7500.0  # the sharp case this test is about
+    assert b["base_freq_hz"] > 7000.0 and b["damping_ratio"] < 0.05  # the sharp case in question
     start = Model(ds.actuator, law="lugre")
     free = Free(LAW_PARAMS["lugre"], ("base_compliance",))
     m, _ = first_stage_model(train, ds.actuator, start, free, noise)
