@@ -92,10 +92,16 @@ float ss_lugre_step_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_
     if (!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f)) {
         return st->force_n;
     }
-    ss_lugre_advance_f32(cfg, st, dx_m, dt_s);
+    ss_lugre_slip_f32_t s;
+    advance_begin(cfg, dx_m, dt_s, &s);
+    advance_end(cfg, st, dx_m, &s);
     const float v = dx_m / dt_s;
-    st->zdot_m_per_s = v - cfg->sigma0_n_per_m * fabsf(v) * st->z_m / ss_stribeck_inline_f32(cfg, v);
-    st->force_n = ss_lugre_force_at_f32(cfg, st, v, NULL);
+    /* the force's Stribeck level is the advance's, at the same velocity (once a step, not thrice) */
+    ss_lugre_level_f32_t l;
+    l.slope_ns_per_m = 0.0f;
+    l.g_n = s.moves ? s.g_n : ss_stribeck_inline_f32(cfg, v);
+    st->zdot_m_per_s = v - cfg->sigma0_n_per_m * fabsf(v) * st->z_m / l.g_n;
+    st->force_n = force_end(cfg, st, v, &l, NULL);
     return st->force_n;
 }
 
