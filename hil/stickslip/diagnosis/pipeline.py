@@ -285,11 +285,12 @@ def _select(s: Session, base: Candidate, singles: list[Candidate]):
             if not (s.better(cand, parent) and s.better(cand, chosen)):
                 continue
             cand.verdict = s.judged(cand, parent)
-            if any(parent is p for p in provisional) and cand.verdict.confirmed:
+            on_provisional = any(parent is p for p in provisional)
+            if on_provisional and cand.verdict.confirmed:
                 _judged_on_base(s, cand, base)
             tried += 1
             if cand.verdict.confirmed:
-                refined = _refined(s, cand, chosen, any(parent is p for p in provisional))
+                refined = _refined(s, cand, chosen, on_provisional)
                 if refined is not None:
                     accepted = cand
                     break
