@@ -705,16 +705,14 @@ class _Problem:
             ftol=tol,
         )
 
-    def first_stage(self, max_nfev: int, grid: bool) -> tuple[np.ndarray, float]:
-        """Stage 1 on the per-cycle residual, from the cheapest start point: every combination of
-        the grid values (not grid: start's own point only), with the base parameters both as
-        given and nominal (an effect the base model lacks distorts its calibration). Returns the
-        point and its per-cycle cost (sum of squares over the noise)."""
+    def start_points(self, grid: bool) -> list[np.ndarray]:
+        """Every combination of the grid values (not grid: start's own point only), with the base
+        parameters both as given and nominal (an effect the base model lacks distorts its
+        calibration); one set when start is at nominal (theta is 0 there)."""
         nb, lo, hi, theta0 = self.nb, self.lo, self.hi, self.theta0
         starts = []
         axes = [(i, s.grid) for i, s in enumerate(self.specs) if s.grid and grid]
         combos = list(itertools.product(*(g for _, g in axes))) if axes else [()]
-        # (one set when start is at nominal: theta is 0 there)
         bases = {theta0[:nb].tobytes(): theta0[:nb], np.zeros(nb).tobytes(): np.zeros(nb)}
         for b in bases.values():
             for combo in combos:
@@ -723,16 +721,31 @@ class _Problem:
                 for (i, _), v in zip(axes, combo):
                     th[i] = self.specs[i].theta(v)
                 starts.append(th)
-        if len(starts) > START_RANK_KEEP and not carries_heat(self.model(starts[0])):
-            # ranked on the runs' first periods, the best few compared over the whole runs
-            short = self.short_runs()
-            ranked = [
-                float(np.sum(residuals(short, self.model(th), self.noise_m, self.every, True) ** 2))
-                for th in starts
-            ]
+        return starts
+
+    def ranks_starts(self, starts: list[np.ndarray]) -> bool:
+        """Are these starts ranked on the runs' first periods before the whole runs compare them?"""
+        return len(starts) > START_RANK_KEEP and not carries_heat(self.model(starts[0]))
+
+    def first_periods_costs(self, starts: list[np.ndarray]) -> list[float]:
+        """Each start's per-cycle cost over the runs' first START_RANK_PERIODS periods."""
+        short = self.short_runs()
+        return [
+            float(np.sum(residuals(short, self.model(th), self.noise_m, self.every, True) ** 2))
+            for th in starts
+        ]
+
+    def first_stage(self, max_nfev: int, grid: bool) -> tuple[np.ndarray, float]:
+        """Stage 1 on the per-cycle residual, from the cheapest start point (start_points; many
+        ranked on the first periods, the best START_RANK_KEEP over the whole runs). Returns the
+        point and its per-cycle cost (sum of squares over the noise)."""
+        starts = self.start_points(grid)
+        if self.ranks_starts(starts):
+            ranked = self.first_periods_costs(starts)
             starts = [
                 starts[i] for i in sorted(np.argsort(ranked, kind="stable")[:START_RANK_KEEP])
             ]
+        theta0 = self.theta0
         if len(starts) > 1:
             costs = [float(np.sum(r**2)) for r in self.res_many(starts, True, MAX_DT_S)]
             theta0 = starts[int(np.argmin(costs))]
