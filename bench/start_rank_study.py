@@ -8,7 +8,7 @@ chosen, and what the chosen start costs over the whole runs against that best. O
 grid; a summary at the end. Costs about 1.5 x a diagnosis.
 
     PYTHONPATH=hil:bench .venv/bin/python bench/start_rank_study.py --data DIR --out X.jsonl \\
-        --only base_compliance:118 null_gms:100          (independent generator's cases)
+        --only base_compliance:118 null_gms:100 own:base_compliance:100   (own: our generator's)
 """
 
 from __future__ import annotations
@@ -65,7 +65,7 @@ def main() -> int:
     ap.add_argument("--out", type=Path, required=True, help="JSON lines, one a grid")
     ap.add_argument("--only", nargs="+", metavar="CASE:SEED", required=True)
     a = ap.parse_args()
-    names = {c[0] for c in B.IND_CASES}
+    names = {c[0] for c in B.IND_CASES} | {f"own:{c[0]}" for c in B.OWN_CASES}
     log: list[dict] = []
     where = [""]
     install(log, where)
@@ -73,7 +73,7 @@ def main() -> int:
         for x in a.only:
             name, _, seed = x.rpartition(":")
             if name not in names or not seed.isdigit():
-                ap.error(f"--only {x}: expected CASE:SEED with CASE one of the independent cases")
+                ap.error(f"--only {x}: expected CASE:SEED, CASE an independent case or own:CASE")
             where[0] = x
             n0 = len(log)
             d = PL.diagnose(P.dataset(name, int(seed), a.rate_hz, a.data)).to_json()
