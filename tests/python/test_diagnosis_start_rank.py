@@ -54,7 +54,7 @@ def test_the_whole_runs_choose_among_the_best_starts_of_the_first_periods(monkey
 
     def residuals(runs, model, noise_m, every, per_cycle=False, max_dt_s=F.MAX_DT_S):
         assert runs == ["cut"] and per_cycle
-        key = p.specs and F.theta_of(model, p.specs).tobytes()
+        key = F.theta_of(model, p.specs).tobytes()
         return np.array([short_rank.setdefault(key, float(len(short_rank)))])
 
     def res_many(self, thetas, per_cycle, max_dt_s):
