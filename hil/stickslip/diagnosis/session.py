@@ -135,7 +135,7 @@ class Session:
         self.families = families(runs)
         xs = [r.x_m for r in runs if len(r.x_m)]
         self.travel_m = float(max(map(np.max, xs)) - min(map(np.min, xs))) if xs else 0.0
-        self._lin_cache: dict[int, list[Future]] = {}
+        self._lin_cache: dict[int, tuple[Candidate, list[Future]]] = {}
         self.screened: dict[int, list[Screened]] = {}  # per parent: its causes, screened
         self.held: dict[str, tuple[str, ...]] = {}  # per law: what its calibration could not fit
         self.free_base: dict[str, tuple[str, ...]] = {}  # ... and what it could
@@ -377,14 +377,20 @@ class Session:
         return beats(new, old, self.noise_m, self.sensor_noise_m)
 
     def linearization(self, c: Candidate) -> list[Future]:
-        """The model's residual and Jacobian on every run, one column per job (cached)."""
+        """The model's residual and Jacobian on every run, one column per job (cached; the cache
+        holds c too, so that its id is not given to another candidate while the entry lives)."""
         if id(c) not in self._lin_cache:
             m, free = c.fit.model, c.fit.free
-            self._lin_cache[id(c)] = [
-                self.ex.submit(linearize_column, self.runs, self.nominal, m, free, self.noise_m, i)
-                for i in range(-1, len(c.fit.specs))
-            ]
-        return self._lin_cache[id(c)]
+            self._lin_cache[id(c)] = (
+                c,
+                [
+                    self.ex.submit(
+                        linearize_column, self.runs, self.nominal, m, free, self.noise_m, i
+                    )
+                    for i in range(-1, len(c.fit.specs))
+                ],
+            )
+        return self._lin_cache[id(c)][1]
 
     def assembled(self, c: Candidate, futs: list[Future]) -> Linearization:
         return assemble(
