@@ -52,7 +52,7 @@ def install(log: dict, first_round: bool = False) -> None:
                             "screened_on": x.on_calibrated
                             or (f"{x.law} at nominal" if x.from_nominal else ""),
                         }
-                        for x in self.screened.get(id(parent), [])
+                        for x in self.screened.get(id(parent), (parent, []))[1]
                     ],
                 }
             )

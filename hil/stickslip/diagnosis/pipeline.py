@@ -214,7 +214,7 @@ def diagnose(
                 f"the calibrated {base.law} model is within {UNEXPLAINED_RMSE_OVER_NOISE:g} x the "
                 "noise: no cause is sought"
             )
-            s.screened[id(base)] = s.screen(base, list(CAUSES))
+            s.screened[id(base)] = (base, s.screen(base, list(CAUSES)))
             singles = []
         timing["candidates_s"] = time.perf_counter() - t0
 
@@ -259,7 +259,7 @@ def diagnose(
         causes,
         unexplained,
         verdicts=s.verdicts,
-        screened=s.screened.get(id(base), []),
+        screened=s.screened.get(id(base), (base, []))[1],
         sensor_noise_m=sensor_noise_m,
         residual=residual_summary(runs, chosen.fit.model, noise_m),
         causes_sought=sought,

@@ -136,7 +136,9 @@ class Session:
         xs = [r.x_m for r in runs if len(r.x_m)]
         self.travel_m = float(max(map(np.max, xs)) - min(map(np.min, xs))) if xs else 0.0
         self._lin_cache: dict[int, tuple[Candidate, list[Future]]] = {}
-        self.screened: dict[int, list[Screened]] = {}  # per parent: its causes, screened
+        # per parent: its causes, screened (the parent held, as in _lin_cache, so that its id
+        # is not another's while the entry lives)
+        self.screened: dict[int, tuple[Candidate, list[Screened]]] = {}
         self.held: dict[str, tuple[str, ...]] = {}  # per law: what its calibration could not fit
         self.free_base: dict[str, tuple[str, ...]] = {}  # ... and what it could
         self.laws: tuple[str, ...] = ()  # the laws calibrated
@@ -297,7 +299,7 @@ class Session:
         lacked)."""
         self.say(f"screening {len(causes)} causes on {'+'.join(parent.causes) or parent.law}")
         ranked = self.screen(parent, causes)
-        self.screened.setdefault(id(parent), ranked)
+        self.screened.setdefault(id(parent), (parent, ranked))
         worth = [
             x
             for x in ranked
