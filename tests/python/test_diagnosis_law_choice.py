@@ -125,6 +125,12 @@ def test_the_screen_keeps_each_law_s_best_probe_at_nominal():
     assert x.from_nominal and x.law == "ls" and x.values == points[1]
 
 
+def _done(*result) -> Future:
+    fu: Future = Future()
+    fu.set_result(result)
+    return fu
+
+
 class _Now:
     """An executor that runs each job at once."""
 
@@ -205,7 +211,10 @@ def test_a_hysteresis_whose_size_depends_on_the_law_is_the_law_s_misfit(monkeypa
         ("gms", BENT.normal_force_n, ("piezo_hysteresis",)),
         ("lugre", BENT.normal_force_n, ("piezo_hysteresis",)),
     ]
+    fitted.clear()  # asked again of the same model: the answer kept, nothing fitted
+    assert PL._law_dependence(s, chosen, "piezo_hysteresis") == why and fitted == []
     alphas.update(lugre=0.2, gms=0.3)  # within 2 x of 0.39
+    s.law_spread.clear()
     assert PL._law_dependence(s, chosen, "piezo_hysteresis") == ""
     fitted.clear()  # a cause the law's presliding cannot make: not checked, nothing fitted
     assert PL._law_dependence(s, chosen, "external_load") == ""
@@ -332,3 +341,60 @@ def test_a_first_cause_whose_size_depends_on_the_law_is_refused_before_the_law_i
     assert PL._refined(s, accepted, cal["ls"]) is None
     assert len(rechosen) == 2 and fitted == []
     assert "accounts for only 44 %" in accepted.verdict.reasons[-1]
+
+
+def test_a_first_cause_of_the_law_s_own_kind_that_keeps_its_size_under_every_law_needs_half(
+    monkeypatch,
+):
+    # held-out independent hysteresis, seed 126 (a Prandtl-Ishlinskii loop of ratio 0.05): 76 % of
+    # the LuGre calibration's error, alpha 0.12-0.14 under every law, every left-out family 4-100 x
+    # better; dropped for the 80 % an unexplained model demands. A hysteresis or a base is put to
+    # the law-dependence test instead and, passing it, needs the share any kept cause needs.
+    alphas = {"lugre": 0.13, "gms": 0.12}
+    fitted = []
+
+    def first(train, nominal, m, free, noise, nfev):
+        fitted.append(m.law)
+        e = Effects(hysteresis_alpha=alphas[m.law], hysteresis_width_m=1e-6)
+        return Model(m.params, e, law=m.law, causes=free.causes), 1.0
+
+    def refined_as(cause: str, ev: Evaluation) -> tuple[Candidate, Candidate]:
+        e = Effects(hysteresis_alpha=0.124, hysteresis_width_m=1.5e-6, load_n=0.1)
+        m = Model(BENT, e, law="ls", causes=(cause,))
+        f = FitResult(Free(("normal_force_n",), (cause,)), m, m.values(), 0.0, 0)
+        monkeypatch.setattr(SE, "fit_and_validate", lambda *args: (f, ev))  # the refinement
+        return Candidate(f, ev, 0.0, cal["ls"], Verdict()), Candidate(f, ev, 0.0)
+
+    monkeypatch.setattr(PL, "first_stage_model", first)
+    monkeypatch.setattr(PL, "_rechoose_law", lambda s, c: c)
+    s, _, _ = _session()
+    s.ex = _Now()
+    cal = _calibrated(s)  # 200 nm under each law: 10 000 noise variances
+    # the model without it, refitted from its point, no better than the calibration
+    s.refit_without = lambda c, cause: _done(cal["ls"].fit, cal["ls"].val)
+    share_76 = Evaluation(98e-9, 0, 2401.0 * 1000, 1000)  # 49 x the noise
+    accepted, _ = refined_as("piezo_hysteresis", share_76)
+    refined = PL._refined(s, accepted, cal["ls"])
+    assert refined is not None and sorted(fitted) == ["gms", "lugre"]
+    # the final check holds it to the same test, asked once for the model
+    fitted.clear()
+    assert PL._final_weakness(s, refined, "piezo_hysteresis", explained=False)[0] == ""
+    assert fitted == []
+    # its size depends on the law: refused for that; and within the 2 x a cause that carries
+    # 80 % may differ by, but not the 1.5 x asked of one that rests on this test
+    for gms in (1e-9, 0.22):
+        alphas.update(gms=gms)
+        accepted, _ = refined_as("piezo_hysteresis", share_76)
+        assert PL._refined(s, accepted, cal["ls"]) is None
+        assert "depends on the friction law" in accepted.verdict.reasons[-1]
+    assert "at most 1.5 x where the cause carries less than 80 %" in accepted.verdict.reasons[-1]
+    # a cause the law's presliding cannot make has no such test: the higher bar holds
+    fitted.clear()
+    accepted, _ = refined_as("external_load", share_76)
+    assert PL._refined(s, accepted, cal["ls"]) is None
+    assert "accounts for only 76 %" in accepted.verdict.reasons[-1]
+    assert "must account for 80 %" in accepted.verdict.reasons[-1] and fitted == []
+    # under half, nothing is fitted: the share any kept cause needs is not there
+    accepted, _ = refined_as("piezo_hysteresis", Evaluation(150e-9, 0, 5625.0 * 1000, 1000))
+    assert PL._refined(s, accepted, cal["ls"]) is None
+    assert "accounts for only 44 %" in accepted.verdict.reasons[-1] and fitted == []

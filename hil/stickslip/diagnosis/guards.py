@@ -61,7 +61,9 @@ FINAL_SHARE = 0.5  # ... and that it must account for in the final model (backwa
 # other guard. A cause the data force carries most of what is left without it: that generator's
 # Prandtl-Ishlinskii hysteresis, a form our Bouc-Wen loop only approaches, 89 %; its slew limit,
 # base compliance and load 99.7 to 99.99 %. The threshold sits between the two groups, on few
-# cases: the hit-rate tables (BENCHMARKS.md) are its test.
+# cases: the hit-rate tables (BENCHMARKS.md) are its test. A hysteresis or a base compliance,
+# whose signature a law's misfit can make, is asked directly whether its size depends on the law,
+# and needs FINAL_SHARE when it does not (pipeline._first_share_bar).
 UNEXPLAINED_FINAL_SHARE = 0.8
 
 

@@ -98,6 +98,11 @@ PROVISIONAL_WIDTH = 3
 # 1.01-1.23 x as the guard fits them (docs/diagnosis.md, step 8).
 LAW_SENSITIVE = {"piezo_hysteresis": "hysteresis_alpha", "base_compliance": "base_freq_hz"}
 LAW_SPREAD_MAX = 2.0
+# Such a cause that carries FINAL_SHARE but not UNEXPLAINED_FINAL_SHARE of a model that stays
+# unexplained rests on this test more than on its share, and must agree closer: the held-out
+# true hysteresis of seed 126 (76 %) spread 1.03 x, a false one on clean GMS seed 126 (60 %)
+# 2.08 x, the true ones above 1.09-1.33 x (docs/diagnosis.md, step 10).
+LAW_SPREAD_TIGHT = 1.5
 PHASE_BINS = 10  # residual summary: bins of the phase within the cycle
 
 
@@ -450,12 +455,11 @@ def _refined(
     refined = s.cand(f, v, parent=before)
     refined.verdict = accepted.verdict
     assert accepted.verdict is not None  # judged before it was accepted
-    law_weakness: dict[tuple[int, str], str] = {}
     if not _law_chosen_with_it(accepted):
         # a cause the law's misfit made, before the law is chosen again for it (a fifth of a
         # clean diagnosis when it is: clean GMS seed 127, a base at 4.6 kHz under LS, 15-17 kHz
         # from the other laws' calibrations, refused after 337 M model steps of re-choice)
-        weakness = _law_weakness_first(s, refined, before, on_provisional, law_weakness)
+        weakness = _law_weakness_first(s, refined, before, on_provisional)
         if weakness:
             accepted.verdict.reasons.append(f"refined, {weakness}")
             return None
@@ -477,23 +481,22 @@ def _refined(
         # independent clean LS-b seed 118: the LS calibration's misfit (147 x the noise) taken up
         # by a base at 4.0 kHz with a slew limit beside it, 32.6 x the noise, the pair's guards
         # and the final check passed
-        weakness = next(
-            (w for c in refined.causes if (w := _law_dependence(s, refined, c, law_weakness))), ""
-        )
+        weakness = next((w for c in refined.causes if (w := _law_dependence(s, refined, c))), "")
         if not weakness:
             return refined
         accepted.verdict.reasons.append(f"refined with {'+'.join(refined.causes)}, {weakness}")
         return None
     share = share_removed(s.without_first(refined, before), refined.mse_over_noise)
     weakness = ""
-    if share >= UNEXPLAINED_FINAL_SHARE:
+    if share >= _first_share_bar(refined.causes):
         # and the final check's own test, before the rounds it would end: the base refitted
         # without the cause from where the cause left it (clean GMS seed 100: a hysteresis that
         # held 84 % against the calibrations held 8 % against that refit, dropped after 60 s of
         # rounds built on it: it had only moved the fit out of the calibration's stopping point)
+        limit = LAW_SPREAD_MAX if share >= UNEXPLAINED_FINAL_SHARE else LAW_SPREAD_TIGHT
         for cause in refined.causes:
             weakness = _final_weakness(s, refined, cause, explained=False)[0] or _law_dependence(
-                s, refined, cause, law_weakness
+                s, refined, cause, limit
             )
             if weakness:
                 break
@@ -504,9 +507,20 @@ def _refined(
         if weakness
         else f"refined, accounts for only {100 * share:.0f} % of the error the best model without "
         f"it leaves, in a model that stays unexplained (a cause must account for "
-        f"{100 * UNEXPLAINED_FINAL_SHARE:.0f} %)"
+        f"{100 * _first_share_bar(refined.causes):.0f} %)"
     )
     return None
+
+
+def _first_share_bar(causes: tuple[str, ...]) -> float:
+    """The share a first cause in a model that stays unexplained must carry to be tested further:
+    UNEXPLAINED_FINAL_SHARE, or FINAL_SHARE when each of its causes is LAW_SENSITIVE. The higher
+    bar stands in for a question the data cannot otherwise answer, whether the cause only takes up
+    the law's misfit; for a LAW_SENSITIVE cause the law-dependence test asks it directly, and a
+    cause that passes it is held to the share any kept cause needs (_final_weakness)."""
+    if causes and all(c in LAW_SENSITIVE for c in causes):
+        return FINAL_SHARE
+    return UNEXPLAINED_FINAL_SHARE
 
 
 def _law_weakness_first(
@@ -514,49 +528,58 @@ def _law_weakness_first(
     refined: Candidate,
     before: Candidate,
     on_provisional: bool,
-    known: dict[tuple[int, str], str],
 ) -> str:
     """_refined's law-dependence test of a first cause (or of a pair on a provisional parent) in
     a model that stays unexplained, taken before the law is chosen again: a cause whose size
     depends on the law is refused there whichever law the re-choice keeps. The re-choice keeps the
-    law on most such candidates, and the test after it is then this one (known holds its answers,
-    so it is not fitted twice). A first cause that carries less than UNEXPLAINED_FINAL_SHARE is
-    not tested here: after the re-choice it is refused on its share alone, unless the new law
-    lifts it, and then tested there."""
+    law on most such candidates, and the test after it is then this one (its answer is kept, so it
+    is not fitted twice). A first cause that carries less than _first_share_bar is not tested
+    here: after the re-choice it is refused on its share alone, unless the new law lifts it, and
+    then tested there."""
     if before.causes and not on_provisional:
         return ""
     if explained_enough(refined, s.sensor_noise_m):
         return ""  # the re-choice may keep it explained: no test after it either
-    if (
-        not before.causes
-        and share_removed(s.without_first(refined, before), refined.mse_over_noise)
-        < UNEXPLAINED_FINAL_SHARE
-    ):
+    if not before.causes and share_removed(
+        s.without_first(refined, before), refined.mse_over_noise
+    ) < _first_share_bar(refined.causes):
         return ""
-    return next((w for c in refined.causes if (w := _law_dependence(s, refined, c, known))), "")
+    return next((w for c in refined.causes if (w := _law_dependence(s, refined, c))), "")
 
 
 def _law_dependence(
-    s: Session, chosen: Candidate, cause: str, known: dict[tuple[int, str], str] | None = None
+    s: Session, chosen: Candidate, cause: str, limit: float = LAW_SPREAD_MAX
 ) -> str:
     """Why a LAW_SENSITIVE cause of chosen reads as the law's misfit rather than the actuator's
     property ("" when it does not): fitted from each other law's calibration (the first stage,
-    from the catalog's start and grid), its size differs more than LAW_SPREAD_MAX x from law to
-    law. known: answers already found, by (id(chosen), cause), read and filled."""
+    from the catalog's start and grid), its size differs more than limit x from law to law.
+    Fitted once per model and cause (Session.law_spread)."""
     key = (id(chosen), cause)
-    if known is not None and key in known:
-        return known[key]
-    out = _law_dependence_fitted(s, chosen, cause)
-    if known is not None:
-        known[key] = out
-    return out
+    if key not in s.law_spread:
+        s.law_spread[key] = (chosen, *_law_spread(s, chosen, cause))
+    _, spread, each = s.law_spread[key]
+    if spread <= limit:
+        return ""
+    return (
+        f"its size depends on the friction law it is read with ({LAW_SENSITIVE[cause]} {each}; a "
+        f"property of the actuator may differ at most {limit:g} x"
+        + (
+            ""
+            if limit == LAW_SPREAD_MAX
+            else " where the cause carries less than "
+            f"{100 * UNEXPLAINED_FINAL_SHARE:.0f} % of the error"
+        )
+        + "): the law's misfit, not the cause"
+    )
 
 
-def _law_dependence_fitted(s: Session, chosen: Candidate, cause: str) -> str:
+def _law_spread(s: Session, chosen: Candidate, cause: str) -> tuple[float, str]:
+    """The largest ratio of the cause's size under one law to its size under another (1.0 for
+    a cause not LAW_SENSITIVE, or when there is no other law), and the sizes, said."""
     name = LAW_SENSITIVE.get(cause)
     others = [c for law, c in s.calibrated.items() if law != chosen.law]
     if name is None or not others:
-        return ""
+        return 1.0, ""
     s.say(f"fitting {cause} under {', '.join(c.law for c in others)}: the same size under each?")
     futs = [
         s.ex.submit(
@@ -575,20 +598,22 @@ def _law_dependence_fitted(s: Session, chosen: Candidate, cause: str) -> str:
         sizes[c.law] = fu.result()[0].values()[f"{cause}.{name}"]
     each = ", ".join(f"{v:.3g} under {law}" for law, v in sizes.items())
     s.say(f"{cause}'s {name}: {each}")
-    mags = [abs(v) for v in sizes.values()]
-    if min(mags) * LAW_SPREAD_MAX >= max(mags):
-        return ""
-    return (
-        f"its size depends on the friction law it is read with ({name} {each}; a property of the "
-        f"actuator may differ at most {LAW_SPREAD_MAX:g} x): the law's misfit, not the cause"
-    )
+    lo, hi = min(abs(v) for v in sizes.values()), max(abs(v) for v in sizes.values())
+    if lo > 0.0:
+        return hi / lo, each
+    return (1.0 if hi == 0.0 else math.inf), each
 
 
 def _final_weakness(
     s: Session, chosen: Candidate, c: str, explained: bool
 ) -> tuple[str, Candidate]:
     """The final check's test of one cause of chosen: why it is not worth its place ("" when it
-    is), and the model without it it was measured against."""
+    is), and the model without it it was measured against. In a model that stays unexplained a
+    cause must carry UNEXPLAINED_FINAL_SHARE; a LAW_SENSITIVE one that carries FINAL_SHARE is put
+    to the law-dependence test instead, which it must pass (independent hysteresis seed 126, a
+    Prandtl-Ishlinskii loop of ratio 0.05: 76 % of the LuGre calibration's error, the same size
+    under every law, 0.12-0.14; the false hysteresis and bases that set the higher bar spread
+    2.7-350 x from law to law)."""
     f, v = s.refit_without(chosen, c).result()
     reduced = s.cand(f, v, parent=chosen.parent)
     # the model without it is the best one known without it: a refit from the chosen point keeps
@@ -601,6 +626,11 @@ def _final_weakness(
     share = share_removed(reduced.mse_over_noise, chosen.mse_over_noise)
     if not s.better(chosen, reduced):
         return "the model without it is as good", reduced
+    if share < need and not explained and c in LAW_SENSITIVE and share >= FINAL_SHARE:
+        law = _law_dependence(s, chosen, c, LAW_SPREAD_TIGHT)
+        if law:
+            return law, reduced
+        need = FINAL_SHARE
     if share < need:
         return (
             f"accounts for only {100 * share:.0f} % of the error left without it ("

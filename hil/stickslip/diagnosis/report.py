@@ -27,6 +27,7 @@ from .guards import (  # noqa: E402
     FWD_SHARE,
     UNEXPLAINED_FINAL_SHARE,
 )
+from .pipeline import LAW_SPREAD_TIGHT  # noqa: E402
 from .result import Diagnosis  # noqa: E402
 
 
@@ -313,7 +314,9 @@ def _markdown(d: Diagnosis, j: dict) -> str:
         "parameters in their physical range, at least "
         f"{100 * FWD_SHARE:.0f} % of the error above the noise removed (and {100 * FINAL_SHARE:.0f}"
         " % in the final model; a first cause that leaves the model unexplained, "
-        f"{100 * UNEXPLAINED_FINAL_SHARE:.0f} % of the best model's without it), and a gain that "
+        f"{100 * UNEXPLAINED_FINAL_SHARE:.0f} % of the best model's without it, or "
+        f"{100 * FINAL_SHARE:.0f} % for a hysteresis or a base compliance whose size agrees "
+        f"within {LAW_SPREAD_TIGHT:g} x under every friction law), and a gain that "
         "carries over to run families it was not fitted "
         f"on (each frequency and amplitude left out in turn: better in most, by > {CV_MIN_DROP:g} "
         f"noise variances in total, and none worse by more than {CV_MAX_HARM:g} x).",

@@ -157,6 +157,9 @@ class Session:
         # per (candidate, cause): the candidate (held, so that its id is not reused) and its
         # refit without the cause from its own point
         self._without_cache: dict[tuple[int, str], tuple[Candidate, Future]] = {}
+        # per (model, cause): the model (held, as above), the spread of the cause's size from law
+        # to law and the sizes, said (pipeline._law_dependence)
+        self.law_spread: dict[tuple[int, str], tuple[Candidate, float, str]] = {}
 
     def cand(self, f: FitResult, v: Evaluation, parent=None, held=None) -> Candidate:
         if held is not None:  # a law's calibration: what it fitted is what causes free again
