@@ -106,9 +106,11 @@ def main() -> int:
     ap.add_argument("--data", type=Path, default=Path("out/diagnosis-cost"))
     ap.add_argument("--out", type=Path, required=True, help="JSON lines, one a diagnosis")
     a0, _ = ap.parse_known_args()
-    table = B.OWN_CASES if a0.generator == "own" else B.IND_CASES
+    table, default = B.case_table(a0.generator)
     names = [c[0] for c in table]
-    ap.add_argument("--cases", nargs="+", choices=names, default=names, help="default: all")
+    ap.add_argument(
+        "--cases", nargs="+", choices=names, default=default, help="default: the hit-rate table"
+    )
     ap.add_argument(
         "--only", nargs="+", metavar="CASE:SEED", help="just these diagnoses (e.g. the slow ones)"
     )
@@ -121,6 +123,7 @@ def main() -> int:
             if name not in names or not seed.isdigit():
                 ap.error(f"--only {x}: expected CASE:SEED with CASE one of the table's cases")
             only.add((name, int(seed)))
+        a.cases = sorted({nm for nm, _ in only})  # --only's cases, whatever --cases says
     counter = StepCounter()
     counter.install()
     tag_batches()
