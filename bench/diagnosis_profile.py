@@ -45,7 +45,7 @@ def dataset(case: str, seed: int, rate_hz: float, data: Path) -> Path:
         if not path.exists():
             B.make_own(data, f"own_{name}_{seed}_", causes, kw, seed).rename(path)
         return path
-    causes, kw = {n: (c, k) for n, c, k in B.IND_CASES + B.IND_OTHER_CONTACTS}[case]
+    causes, kw = {n: (c, k) for n, c, k in B.case_table("independent")[0]}[case]
     path = data / f"{case}_{seed}_{int(rate_hz)}"
     if not path.exists():
         B.make_independent(

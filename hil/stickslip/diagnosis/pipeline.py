@@ -488,7 +488,8 @@ def _refined(
         return None
     share = share_removed(s.without_first(refined, before), refined.mse_over_noise)
     weakness = ""
-    if share >= _first_share_bar(refined.causes):
+    bar = _first_share_bar(refined.causes)
+    if share >= bar:
         # and the final check's own test, before the rounds it would end: the base refitted
         # without the cause from where the cause left it (clean GMS seed 100: a hysteresis that
         # held 84 % against the calibrations held 8 % against that refit, dropped after 60 s of
@@ -507,7 +508,7 @@ def _refined(
         if weakness
         else f"refined, accounts for only {100 * share:.0f} % of the error the best model without "
         f"it leaves, in a model that stays unexplained (a cause must account for "
-        f"{100 * _first_share_bar(refined.causes):.0f} %)"
+        f"{100 * bar:.0f} %)"
     )
     return None
 
@@ -598,7 +599,8 @@ def _law_spread(s: Session, chosen: Candidate, cause: str) -> tuple[float, str]:
         sizes[c.law] = fu.result()[0].values()[f"{cause}.{name}"]
     each = ", ".join(f"{v:.3g} under {law}" for law, v in sizes.items())
     s.say(f"{cause}'s {name}: {each}")
-    lo, hi = min(abs(v) for v in sizes.values()), max(abs(v) for v in sizes.values())
+    mags = [abs(v) for v in sizes.values()]
+    lo, hi = min(mags), max(mags)
     if lo > 0.0:
         return hi / lo, each
     return (1.0 if hi == 0.0 else math.inf), each
