@@ -33,6 +33,7 @@ class FrictionConfig(C.Structure):
         ("sigma1_ns_per_m", C.c_float),
         ("sigma2_ns_per_m", C.c_float),
         ("asymmetry", C.c_float),
+        ("gms_decay", C.c_float),
     ]
 
 

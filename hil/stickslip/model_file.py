@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from . import _native as N
-from .model import DT_S, ActuatorParams, Effects
+from .model import DT_S, GMS_DECAY, ActuatorParams, Effects
 from .node_params import node_values
 
 FORMAT = "stick-slip-model/1"
@@ -41,9 +41,10 @@ class ModelFile:
     dt_s: float = DT_S
     causes: tuple[str, ...] = ()  # the diagnosis' causes the effects stand for
     source: dict = field(default_factory=dict)  # where it came from (free-form, kept as is)
+    gms_decay: float = GMS_DECAY  # the GMS law's presliding shape (written for GMS only)
 
     def to_dict(self) -> dict:
-        return {
+        d = {
             "format": FORMAT,
             "law": self.law,
             "dt_s": self.dt_s,
@@ -52,6 +53,9 @@ class ModelFile:
             "causes": list(self.causes),
             "source": self.source,
         }
+        if self.law == "gms":
+            d["gms_decay"] = self.gms_decay
+        return d
 
     @classmethod
     def from_dict(cls, d: object, path: str | Path = "<model>") -> ModelFile:
@@ -63,7 +67,8 @@ class ModelFile:
         if d.get("format") != FORMAT:
             raise bad(f"format: must be {FORMAT!r}, got {d.get('format')!r}")
         unknown = sorted(
-            set(d) - {"format", "law", "dt_s", "actuator", "effects", "causes", "source"}
+            set(d)
+            - {"format", "law", "dt_s", "actuator", "effects", "causes", "source", "gms_decay"}
         )
         if unknown:
             raise bad(f"unknown keys {unknown}")
@@ -93,7 +98,8 @@ class ModelFile:
         source = d.get("source", {})
         if not isinstance(source, dict):
             raise bad("source: must be an object")
-        m = cls(params, law, effects, dt, tuple(causes), source)
+        decay = _number(d.get("gms_decay", GMS_DECAY), "gms_decay", bad)
+        m = cls(params, law, effects, dt, tuple(causes), source, decay)
         try:  # the library's check: ranges, and the rules between fields (Fc <= Fs, ...)
             N.check_config(m.config())
         except ValueError as e:
@@ -101,7 +107,7 @@ class ModelFile:
         return m
 
     def config(self) -> N.ActuatorConfig:
-        return self.params.actuator_config(self.law, self.dt_s, self.effects)
+        return self.params.actuator_config(self.law, self.dt_s, self.effects, self.gms_decay)
 
     def config_q(self) -> N.ActuatorConfigQ | None:
         """The fixed-point config, or None when that family cannot run this model (GMS, an effect

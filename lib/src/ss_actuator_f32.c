@@ -142,6 +142,7 @@ typedef struct {
     float f0;              /* the friction the step began with */
     float turn_m;          /* LS, GMS: the drift's relative excursion before its motion turned, else 0 */
     float turn_frac;       /* ... and when it turned, a fraction of dt */
+    float v_start;         /* GMS: the relative velocity the step started from (its force's) */
 } carry_t;
 
 /* What a batch's step carries besides (its address is taken: kept apart from carry_t, which a
@@ -179,10 +180,11 @@ SS_FORCE_INLINE const ss_friction_config_f32_t *friction_config(const ss_actuato
 SS_FORCE_INLINE void gms_advance(ss_actuator_state_f32_t *st, const ss_friction_config_f32_t *fr,
                                  const carry_t *c)
 {
+    ss_gms_begin_step_f32(&st->fr.gms, c->v_start);
     if (c->turn_m != 0.0f) {
-        ss_gms_advance_f32(fr, &st->fr.gms, c->turn_m, c->turn_frac * c->dt);
+        ss_gms_advance_piece_f32(fr, &st->fr.gms, c->turn_m, c->turn_frac * c->dt);
     }
-    ss_gms_advance_f32(fr, &st->fr.gms, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * c->dt);
+    ss_gms_advance_piece_f32(fr, &st->fr.gms, c->dx_rel - c->turn_m, (1.0f - c->turn_frac) * c->dt);
 }
 
 /* LS's advance to the turning point, where the motion turned inside the step; the rest of the
@@ -395,6 +397,7 @@ SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_a
 
     /* kick: half a step of friction on both bodies */
     const float v_rel_start = st->v_rod_m_per_s - st->v_slider_m_per_s;
+    c->v_start = v_rel_start;
     half_kick(cfg, st, c->inv_mr, c->inv_mc, dt);
     const float kick_dv = v_rel_start - (st->v_rod_m_per_s - st->v_slider_m_per_s);
 

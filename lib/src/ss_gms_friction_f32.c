@@ -7,11 +7,29 @@
 #include "ss_exp_f32.h"
 #include "ss_friction_inline_f32.h"
 
-/* Share alpha_i of the slip level carried by element i (0-based): (2i + 1) / N^2, exact in float
- * for N a power of two. */
-static float share(int i)
+void ss_gms_shares_f32(float decay, float share[SS_GMS_ELEMENTS])
 {
-    return (float)(2 * i + 1) / (float)(SS_GMS_ELEMENTS * SS_GMS_ELEMENTS);
+    /* element i (0-based) breaks away at u_s (1 - c_i^(1/d)), c_i = 1 - (2i + 1) / 2N; with equal
+     * stiffnesses its share is proportional to that displacement. For d = 1 every term is exact in
+     * float: 1 - c_i = (2i + 1) / 8, shares (2i + 1) / 16. */
+    const float inv_d = 1.0f / decay;
+    float raw[SS_GMS_ELEMENTS];
+    float sum = 0.0f;
+    for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
+        const float c = 1.0f - (float)(2 * i + 1) / (float)(2 * SS_GMS_ELEMENTS);
+        raw[i] = 1.0f - powf(c, inv_d);
+        sum += raw[i];
+    }
+    for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
+        share[i] = raw[i] / sum;
+    }
+}
+
+/* An element is damped while it sticks: below its level, or at it with v turning it back (at
+ * v = 0 its damping force is 0 either way). */
+static int damped_at(const ss_gms_state_f32_t *st, int i, float v)
+{
+    return fabsf(st->f_n[i]) < st->share[i] * st->level_n || st->f_n[i] * v <= 0.0f;
 }
 
 ss_status_t ss_gms_init_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t *st)
@@ -23,6 +41,7 @@ ss_status_t ss_gms_init_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f3
     if (status != SS_OK) {
         return status;
     }
+    ss_gms_shares_f32(cfg->gms_decay, st->share);
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
         st->f_n[i] = 0.0f;
     }
@@ -30,7 +49,20 @@ ss_status_t ss_gms_init_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f3
     st->elastic_n = 0.0f;
     st->force_n = 0.0f;
     st->sliding = 0;
+    ss_gms_begin_step_f32(st, 0.0f);
     return SS_OK;
+}
+
+void ss_gms_begin_step_f32(ss_gms_state_f32_t *st, float v_start_m_per_s)
+{
+    uint8_t bits = 0u;
+    for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
+        bits |= (uint8_t)(damped_at(st, i, v_start_m_per_s) ? (1u << i) : 0u);
+        st->stuck_m[i] = 0.0f;
+    }
+    st->damped_start = bits;
+    st->v_start_m_per_s = v_start_m_per_s;
+    st->step_s = 0.0f;
 }
 
 void ss_gms_advance_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t *st, float dx_m, float dt_s)
@@ -38,6 +70,17 @@ void ss_gms_advance_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t 
     if (!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f)) {
         return;
     }
+    ss_gms_begin_step_f32(st, dx_m / dt_s);
+    ss_gms_advance_piece_f32(cfg, st, dx_m, dt_s);
+}
+
+void ss_gms_advance_piece_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t *st, float dx_m,
+                              float dt_s)
+{
+    if (!isfinite(dx_m) || !isfinite(dt_s) || !(dt_s > 0.0f)) {
+        return;
+    }
+    st->step_s += dt_s;
     if (dx_m == 0.0f) {
         st->sliding = 0; /* no motion, nothing slips */
         return;
@@ -49,7 +92,7 @@ void ss_gms_advance_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t 
     int all_slip = 1;
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
         trial[i] = st->f_n[i] + kdx;
-        if (d * trial[i] < share(i) * st->level_n) {
+        if (d * trial[i] < st->share[i] * st->level_n) {
             all_slip = 0;
         }
     }
@@ -60,9 +103,15 @@ void ss_gms_advance_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t 
         const float g = ss_stribeck_inline_f32(cfg, dx_m / dt_s);
         st->level_n = g + (st->level_n - g) * ss_exp_neg_f32(cfg->sigma0_n_per_m * fabsf(dx_m) / g);
     }
+    const float inv_kdx = 1.0f / fabsf(kdx);
     float sum = 0.0f;
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
-        const float w = share(i) * st->level_n;
+        const float w = st->share[i] * st->level_n;
+        if (d * st->f_n[i] < w) {
+            /* stuck at the piece's start: for all of it, or to where it reaches its level */
+            const float part = (d * trial[i] > w) ? (w - d * st->f_n[i]) * inv_kdx : 1.0f;
+            st->stuck_m[i] += part * dx_m;
+        }
         /* an element past its slip level slips; compares, not libm's fminf / fmaxf calls (the same
          * result for a slip level w > 0, a NaN trial included: -w) */
         st->f_n[i] = (trial[i] > w) ? w : ((trial[i] >= -w) ? trial[i] : -w);
@@ -88,19 +137,38 @@ float ss_gms_step_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t *s
 float ss_gms_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_gms_state_f32_t *st, float v_m_per_s,
                           ss_friction_slopes_f32_t *slopes)
 {
-    /* asymmetric friction scales the contact's elastic force, as in LS */
+    /* asymmetric friction scales the contact's elastic and micro-damping force, as in LS */
     const float asym = ss_asymmetry_inline_f32(cfg, st->elastic_n);
+    /* An element damped at both ends of the step adds sigma1 / N v, the step's trapezoid with the
+     * force it began with. One whose damping switched inside the step adds what makes its impulse
+     * over this step and the next sigma1 / N times its stuck displacement: this force acts for
+     * half of this step and half of the next, the start force (at v_start) for half of this one.
+     * Broke away: stuck / dt - v_start / 2; stuck again after a turn: stuck / dt + v / 2. */
+    int below = 0;
+    float per_v = 0.0f; /* damped elements, by their weight on v */
+    float owed = 0.0f;  /* the switched elements' part that does not depend on v, m/s */
+    const float inv_step = (st->step_s > 0.0f) ? 1.0f / st->step_s : 0.0f;
+    for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
+        below += (fabsf(st->f_n[i]) < st->share[i] * st->level_n) ? 1 : 0;
+        const int end = damped_at(st, i, v_m_per_s);
+        const int start = (int)((st->damped_start >> i) & 1u);
+        if (start == end) {
+            per_v += (float)end;
+        } else if (start) {
+            owed += st->stuck_m[i] * inv_step - 0.5f * st->v_start_m_per_s;
+        } else {
+            owed += st->stuck_m[i] * inv_step;
+            per_v += 0.5f;
+        }
+    }
+    const float c_i = asym * cfg->sigma1_ns_per_m / (float)SS_GMS_ELEMENTS;
     if (slopes != NULL) {
-        slopes->dfdv_ns_per_m = cfg->sigma2_ns_per_m;
+        slopes->dfdv_ns_per_m = cfg->sigma2_ns_per_m + c_i * per_v;
         /* an element at its slip level takes no more load in the direction it slipped: the last
          * motion's (none yet: every element sticks) */
-        int sticking = 0;
-        for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
-            sticking += (fabsf(st->f_n[i]) < share(i) * st->level_n) ? 1 : 0;
-        }
-        slopes->dfdx_n_per_m = asym * cfg->sigma0_n_per_m * ((float)sticking / (float)SS_GMS_ELEMENTS);
+        slopes->dfdx_n_per_m = asym * cfg->sigma0_n_per_m * ((float)below / (float)SS_GMS_ELEMENTS);
     }
-    return asym * st->elastic_n + cfg->sigma2_ns_per_m * v_m_per_s;
+    return asym * st->elastic_n + (cfg->sigma2_ns_per_m + c_i * per_v) * v_m_per_s + c_i * owed;
 }
 
 ss_status_t ss_gms_run_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t *st, const float *dx_m,

@@ -44,6 +44,26 @@ def test_friction_response_gms_virgin_curve_and_saturation():
     assert f[-1] == pytest.approx(fs, rel=1e-5)
 
 
+def test_gms_presliding_shape_and_damping():
+    """gms_decay reshapes the virgin curve (docs/model.md): at one Fs / sigma0 of travel the
+    parabola's 0.75 Fs, more for a slower decay, less for a faster one; sigma1 damps the sticking
+    contact, sigma1 v on top of the elastic force while every element sticks."""
+    p = ActuatorParams()
+    fs, s0 = p.fs_n, p.sigma0_n_per_m
+    x = np.linspace(0.0, fs / s0, 1001)
+    at = {d: friction_response(x, 1e-3, "gms", gms_decay=d)[-1] / fs for d in (0.25, 1.0, 4.0)}
+    # (the damping and viscous forces at 0.36 um/s: (sigma1 + sigma2) v, below 1e-5 Fs)
+    assert at[1.0] == pytest.approx(0.75, abs=1e-5)
+    assert at[0.25] > at[1.0] > at[4.0]  # a slow decay stays stiff longer
+    slow = friction_response(x[:11], 1e-3, "gms")  # 0.36 nm in 10 ms
+    fast = friction_response(x[:11], 1e-6, "gms")  # ... in 10 us: 36 um/s
+    dv = (x[1] - x[0]) * (1 / 1e-6 - 1 / 1e-3)
+    damping = p.sigma1_ns_per_m + p.sigma2_ns_per_m  # micro-damping and viscous friction
+    np.testing.assert_allclose(fast[1:] - slow[1:], damping * dv, rtol=1e-3)
+    with pytest.raises(ValueError, match="gms_decay"):
+        simulate(Sawtooth(cycles=1), model="gms", gms_decay=0.0)
+
+
 def test_gms_has_no_fixed_point_variant():
     with pytest.raises(N.NativeError, match="friction_model"):
         simulate(Sawtooth(cycles=1), model="gms", variant="q")

@@ -30,6 +30,15 @@ def test_round_trip(tmp_path):
     assert MF.load(MF.save(m, tmp_path / "m.json")) == m
 
 
+def test_a_gms_model_keeps_its_presliding_shape(tmp_path):
+    m = MF.ModelFile(ActuatorParams.table1(), "gms", gms_decay=3.5)
+    assert m.to_dict()["gms_decay"] == 3.5
+    back = MF.load(MF.save(m, tmp_path / "m.json"))
+    assert back == m and back.config().friction.gms_decay == 3.5
+    # other laws have no such shape: not written, the default when read
+    assert "gms_decay" not in MF.ModelFile(ActuatorParams.table1()).to_dict()
+
+
 def _good() -> dict:
     return MF.ModelFile(ActuatorParams.table1()).to_dict()
 
@@ -50,6 +59,8 @@ BAD = [
     (lambda d: d["actuator"].update(mu_d=0.5), "mu_d * normal_force_n (Fc, must not exceed Fs)"),
     (lambda d: d.update(causes="load"), "causes: must be a list of cause names"),
     (lambda d: d.update(source=[]), "source: must be an object"),
+    (lambda d: d.update(gms_decay="steep"), "gms_decay: expected a finite number"),
+    (lambda d: d.update(law="gms", gms_decay=50.0), "parameter gms_decay: parameter out of range"),
 ]
 
 
@@ -139,6 +150,7 @@ def _compiled(tmp_path: Path, m: MF.ModelFile) -> tuple[bytes, bytes]:
                 base_freq_hz=4000.0,
                 base_damping_ratio=0.05,
             ),
+            gms_decay=2.5,
         ),  # fmt: skip
     ],
     ids=["table1", "lugre_half_us", "ls_with_q_effects", "gms_with_effects"],

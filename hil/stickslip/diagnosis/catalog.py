@@ -59,12 +59,16 @@ BASE_FACTOR: dict[str, float] = {
     "sigma1_ns_per_m": 100.0,
     "sigma2_ns_per_m": 100.0,
     "piezo_damping_kg_per_s": 30.0,
+    # GMS's presliding shape, the exponent of its stiffness decay: 1/8 to 8 spans an almost
+    # elastic-plastic break-away to nearly LS's exponential (docs/model.md, "GMS (third law)")
+    "gms_decay": 8.0,
 }
-# What each law uses: GMS has no micro-damping (sigma1); LS uses it in gross sliding only.
+# What each law uses: LS uses sigma1 in gross sliding only, GMS on its sticking elements; the
+# presliding shape is GMS's own.
 LAW_PARAMS: dict[str, tuple[str, ...]] = {
-    "ls": tuple(BASE_FACTOR),
-    "lugre": tuple(BASE_FACTOR),
-    "gms": tuple(k for k in BASE_FACTOR if k != "sigma1_ns_per_m"),
+    "ls": tuple(k for k in BASE_FACTOR if k != "gms_decay"),
+    "lugre": tuple(k for k in BASE_FACTOR if k != "gms_decay"),
+    "gms": tuple(BASE_FACTOR),
 }
 
 

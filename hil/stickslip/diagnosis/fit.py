@@ -29,6 +29,7 @@ from threadpoolctl import threadpool_limits
 
 from ..dataset import Run
 from ..model import (
+    GMS_DECAY,
     ActuatorParams,
     Effects,
     Sawtooth,
@@ -173,17 +174,21 @@ class Model:
     effects: Effects = field(default_factory=Effects)
     law: str = "ls"
     causes: tuple[str, ...] = ()  # catalog causes whose effects the model carries
+    gms_decay: float = GMS_DECAY  # the GMS law's presliding shape (not an actuator parameter)
 
     def base_value(self, name: str) -> float:
         if name == "stribeck_excess":
             return self.params.mu_s - self.params.mu_d
+        if name == "gms_decay":
+            return self.gms_decay
         return float(getattr(self.params, name))
 
     def with_base(self, values: dict[str, float]) -> Model:
         kw = dict(values)
         if "stribeck_excess" in kw:
             kw["mu_s"] = self.params.mu_d + kw.pop("stribeck_excess")
-        return replace(self, params=replace(self.params, **kw))
+        decay = kw.pop("gms_decay", self.gms_decay)
+        return replace(self, params=replace(self.params, **kw), gms_decay=decay)
 
     def without(self, cause: str) -> Model:
         """The same model with one cause's effect switched off."""
@@ -206,6 +211,8 @@ class Model:
             "sigma2_ns_per_m": p.sigma2_ns_per_m,
             "piezo_damping_kg_per_s": p.piezo_damping_kg_per_s,
         }
+        if self.law == "gms":
+            out["gms_decay"] = self.gms_decay
         for c in self.causes:
             for q in CAUSE_PARAMS[c]:
                 out[f"{c}.{q.name}"] = float(getattr(self.effects, q.name))
@@ -259,7 +266,7 @@ _SIM_CACHE_LOCK = threading.Lock()
 def _sim_key(model: Model, max_dt_s: float, heat0_j: float) -> tuple:
     """Everything besides the run that decides its simulation (_request): not the model's causes,
     which name its effects but do not set them."""
-    return (model.law, model.params, model.effects, max_dt_s, heat0_j)
+    return (model.law, model.gms_decay, model.params, model.effects, max_dt_s, heat0_j)
 
 
 def _cached(run: FitRun, key: tuple) -> tuple[np.ndarray, float] | None:
@@ -291,6 +298,7 @@ def _request(run: FitRun, model: Model, max_dt_s: float, heat0_j: float) -> dict
         effects=model.effects,
         x0_m=slider_start_m(run, model.effects),
         heat0_j=heat0_j,
+        gms_decay=model.gms_decay,
     )
     if run.waveform is not None:
         n = len(run.t_s) - 1
@@ -450,6 +458,8 @@ def specs_for(nominal: ActuatorParams, free: Free) -> list[Param]:
     for name in free.base:
         if name == "stribeck_excess":
             specs.append(base_param(name, max(nominal.mu_s - nominal.mu_d, 1e-3)))
+        elif name == "gms_decay":
+            specs.append(base_param(name, GMS_DECAY))
         else:
             specs.append(base_param(name, float(getattr(nominal, name))))
     for c in free.causes:
@@ -592,7 +602,7 @@ def _uncertainty(
 
 
 def _value_of(model: Model, s: Param) -> float:
-    if s.name == "stribeck_excess" or hasattr(model.params, s.name):
+    if s.name in ("stribeck_excess", "gms_decay") or hasattr(model.params, s.name):
         return model.base_value(s.name)
     return float(getattr(model.effects, s.name))
 

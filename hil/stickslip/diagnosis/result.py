@@ -125,6 +125,7 @@ class Diagnosis:
                 "nominal_gain_m_per_v": m.params.piezo_gain_m_per_v,
                 "stroke_v": self.stroke_v,
             },
+            m.gms_decay,
         )
 
     def to_json(self) -> dict:
