@@ -93,6 +93,16 @@ def test_slew_limit_is_found_where_the_outside_test_missed_it(tmp_path, executor
     assert j["gain"] > 0.9
 
 
+@pytest.mark.full
+def test_a_single_effect_on_a_gms_contact_is_named(tmp_path, executor):
+    # a GMS contact (the generator's default law): our GMS without micro-damping and with a fixed
+    # presliding curve calibrated to 70-200 x the noise there, and this thermal drift was `none`
+    # (BENCHMARKS.md, "GMS with micro-damping and a calibrated presliding shape")
+    _, j = _run(tmp_path, "gms", ("thermal_drift",), executor, seed=132)
+    named = [c for c in j["causes"] if c not in NOT_EFFECTS]
+    assert named[:1] == ["thermal_drift"], j["causes"]
+
+
 def test_external_load_is_named_first(tmp_path, executor):
     truth, j = _run(tmp_path, "lugre", ("external_load",), executor)
     named = [c for c in j["causes"] if c not in NOT_EFFECTS]
