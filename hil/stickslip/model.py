@@ -35,9 +35,10 @@ _TABLE1 = N.table1_actuator()
 _TABLE1_MU = N.table1_friction_mu()
 _PAPER = N.paper_sawtooth()
 DT_S = _c_literal(_TABLE1.dt_s)  # Table I's step, 1 us
-# The GMS law's presliding stiffness decay exponent (ss_friction.h gms_decay): 1, a parabolic
-# virgin curve, unless a calibration says otherwise. Not a dataset parameter (LS has no such).
-GMS_DECAY = 1.0
+# The GMS law's presliding stiffness decay exponent (ss_friction.h gms_decay), the C library's
+# default: 1, a parabolic virgin curve, unless a calibration says otherwise. Not a dataset
+# parameter (LS has no such).
+GMS_DECAY = _c_literal(_TABLE1.friction.gms_decay)
 
 
 # names of the recorded state columns state_a, state_b (ss_actuator_trace_f32_t)

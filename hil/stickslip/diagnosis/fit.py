@@ -38,7 +38,7 @@ from ..model import (
     simulate,
     simulate_many,
 )
-from .catalog import CAUSE_PARAMS, CAUSE_START, Param, base_param
+from .catalog import BASE_FACTOR, CAUSE_PARAMS, CAUSE_START, Param, base_param
 
 MAX_DT_S = 1e-6  # the model's step: converged to 0.08 % per cycle (docs/model.md)
 # Fits and figures work on the measured positions anti-alias filtered and decimated to at most
@@ -455,13 +455,12 @@ def strides(runs: list[FitRun]) -> list[int]:
 
 def specs_for(nominal: ActuatorParams, free: Free) -> list[Param]:
     specs = []
+    at_nominal = Model(nominal)
     for name in free.base:
         if name == "stribeck_excess":
             specs.append(base_param(name, max(nominal.mu_s - nominal.mu_d, 1e-3)))
-        elif name == "gms_decay":
-            specs.append(base_param(name, GMS_DECAY))
         else:
-            specs.append(base_param(name, float(getattr(nominal, name))))
+            specs.append(base_param(name, at_nominal.base_value(name)))
     for c in free.causes:
         specs.extend(CAUSE_PARAMS[c])
     return specs
@@ -602,7 +601,7 @@ def _uncertainty(
 
 
 def _value_of(model: Model, s: Param) -> float:
-    if s.name in ("stribeck_excess", "gms_decay") or hasattr(model.params, s.name):
+    if s.name in BASE_FACTOR:
         return model.base_value(s.name)
     return float(getattr(model.effects, s.name))
 

@@ -254,11 +254,7 @@ class Session:
         # the asymmetry that was there did not rank; fitted under LuGre it reaches 3.8 nm). A
         # cause then keeps its better prediction of the two, and is fitted from that law's
         # calibration. Not the causes fitted from nominal (their own path).
-        others = [
-            o
-            for law, o in self.calibrated.items()
-            if not parent.causes and law != m.law and not clearly_worse(o, parent)
-        ]
+        others = self.other_calibrations(parent) if not parent.causes else []
         other_jobs = [
             (
                 o,
@@ -341,6 +337,15 @@ class Session:
             futs.append(self.submit_fit(replace(m, effects=fx), free, grid=False))
         return [self.cand(*fitted(fu), parent=parent) for fu in futs]
 
+    def other_calibrations(self, parent: Candidate) -> list[Candidate]:
+        """The other laws' calibrations a first round screens on beside its parent's: those not
+        clearly worse than it (screen)."""
+        return [
+            o
+            for law, o in self.calibrated.items()
+            if law != parent.law and not clearly_worse(o, parent)
+        ]
+
     def submit_under_best_calibration(self, x: Screened, parent: Candidate) -> Future:
         """A first-round cause that screened best on another law's calibration, fitted from every
         calibration it was screened on, on to the end from the one whose first stage fits best.
@@ -348,14 +353,9 @@ class Session:
         seed 100, a LuGre contact: the load probed best on GMS's calibration, 725 nm, and fitted
         there reached 61 nm, where from LuGre's it reaches 3 nm; the asymmetry, its twin, fitted
         from LuGre's to 54 nm and was named)."""
-        laws = [parent.law] + [
-            law
-            for law, o in self.calibrated.items()
-            if law != parent.law and not clearly_worse(o, parent)
-        ]
         starts = []
-        for law in laws:
-            m = self.calibrated[law].fit.model
+        for c in [parent, *self.other_calibrations(parent)]:
+            m, law = c.fit.model, c.law
             m = replace(m, effects=replace(m.effects, **start_values(x)))
             starts.append((m, Free(self.free_base[law], (x.cause,)), False))
         return self.ex.submit(
