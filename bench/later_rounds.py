@@ -6,8 +6,8 @@ round could not use"): for each dataset folder, one diagnosis, and one JSON line
   of the parent's error above the noise (screen.predicted_share), whether it was fitted;
 - `judged`: every candidate of those rounds put to the guards: its fitted share and verdict;
 - `rechoose`: every law chosen again with a cause kept: the chosen model's per-cycle cost, and per
-  other law its first stage's cost over that (the ratio LAW_CHOSEN_RATIO stops at), and whether
-  the law changed.
+  other law it tried its first stage's cost over that (the ratio LAW_RECHOSEN_RATIO stops at),
+  and whether the law changed.
 
     PYTHONPATH=hil:bench .venv/bin/python bench/later_rounds.py DATASET_DIR [DATASET_DIR ...]
 
@@ -66,18 +66,24 @@ def install(log: dict, first_round: bool = False) -> None:
             )
         return v
 
-    def logged_rechoose(s, chosen):
+    def logged_rechoose(s, chosen, laws=None):
         own = F.per_cycle_cost(s.train, s.nominal, chosen.fit.model, chosen.fit.free, s.noise_m)
         ratios = {}
-        for law in s.laws:
-            if law != chosen.law:
-                m = s.at_nominal(replace(chosen.fit.model, law=law))
-                free = F.Free(s.free_base[law], chosen.causes)
-                _, cost = F.first_stage(s.train, s.nominal, m, free, s.noise_m, SE.FIT_NFEV, False)
-                ratios[law] = cost / own
-        out = rechoose(s, chosen)
+        tried = [law for law in (s.laws if laws is None else laws) if law != chosen.law]
+        for law in tried:
+            m = s.at_nominal(replace(chosen.fit.model, law=law))
+            free = F.Free(s.free_base[law], chosen.causes)
+            _, cost = F.first_stage(s.train, s.nominal, m, free, s.noise_m, SE.FIT_NFEV, False)
+            ratios[law] = cost / own
+        out = rechoose(s, chosen, laws)
         log["rechoose"].append(
-            {"causes": list(chosen.causes), "law": chosen.law, "new_law": out.law, "ratios": ratios}
+            {
+                "causes": list(chosen.causes),
+                "law": chosen.law,
+                "tried": tried,
+                "new_law": out.law,
+                "ratios": ratios,
+            }
         )
         return out
 

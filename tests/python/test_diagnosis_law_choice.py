@@ -140,10 +140,11 @@ class _Now:
         return fu
 
 
-def test_the_law_chosen_again_goes_on_only_under_laws_whose_first_stage_comes_near(monkeypatch):
-    # the chosen model (LuGre, a load kept) scores 1e6 per cycle; LS's first stage ends 5 x above
-    # it and goes on to its second stage, GMS's 50 x above and stops there
-    firsts = {"ls": 5e6, "gms": 5e7}
+def test_the_law_chosen_again_goes_on_only_under_laws_whose_first_stage_ends_below_it(monkeypatch):
+    # the chosen model (LuGre, a load kept) scores 1e6 per cycle; LS's first stage ends at half of
+    # it and goes on to its second stage, GMS's 1.4 x above it (the closest a law that was not
+    # taken came, slew limit on a GMS contact, seed 132) and stops there
+    firsts = {"ls": 5e5, "gms": 1.4e6}
     seconds = []
     monkeypatch.setattr(PL, "per_cycle_cost", lambda train, nominal, m, free, noise: 1e6)
     monkeypatch.setattr(
@@ -166,9 +167,9 @@ def test_the_law_chosen_again_goes_on_only_under_laws_whose_first_stage_comes_ne
     f = FitResult(Free(("normal_force_n",), ("external_load",)), m, m.values(), 0.0, 0)
     chosen = Candidate(f, Evaluation(0, 0, 1e3, 1000), 0.0)
     assert PL._rechoose_law(s, chosen) is chosen  # LS no better on the validation runs
-    assert seconds == [("ls", 5e6)]
-    # every other law far off: no second stage at all
-    firsts["ls"] = 2e7
+    assert seconds == [("ls", 5e5)]
+    # every other law's first stage above the chosen model's cost: no second stage at all
+    firsts["ls"] = 1.2e6
     seconds.clear()
     assert PL._rechoose_law(s, chosen) is chosen
     assert seconds == []
@@ -183,6 +184,48 @@ def _calibrated(s: Session, rmse_m: float = 200e-9) -> dict[str, Candidate]:
         cal[law] = Candidate(f, Evaluation(rmse_m, 0, (rmse_m / 2e-9) ** 2 * 1000, 1000), 0.0)
     s.calibrated = cal
     return cal
+
+
+def test_a_first_cause_short_of_its_share_is_chosen_again_only_under_laws_calibrated_near(
+    monkeypatch,
+):
+    # clean GMS data 128-133: a thermal drift, a load, an asymmetry removed 38-49 % of the GMS
+    # calibration's error; LuGre's and LS's calibrations were 2-16 x and 53-69 x worse than GMS's
+    # (mean square), and refitted from nominal with the cause they ended 3.5-114 x worse than GMS
+    # with it (seed 133). The law
+    # is chosen again only among the laws calibrated near the parent (those the first round
+    # screened on); one that carries the final check's share is chosen again among all.
+    tried = []
+    monkeypatch.setattr(PL, "_rechoose_law", lambda s, c, laws=None: tried.append(laws) or c)
+    monkeypatch.setattr(PL, "_law_weakness_first", lambda *args: "")
+    monkeypatch.setattr(PL, "_final_weakness", lambda s, c, cause, explained: ("", c))
+    monkeypatch.setattr(PL, "_law_dependence", lambda *args: "")
+    s, _, _ = _session()
+    s.ex = _Now()
+    cal = _calibrated(s)  # 200 nm under each law: 10 000 noise variances
+    worse = Evaluation(400e-9, 0, 40000.0 * 1000, 1000)
+    cal["ls"] = Candidate(cal["ls"].fit, worse, 0.0)  # 4 x GMS's error
+    m = Model(
+        BENT,
+        Effects(thermal_coeff_per_j=1e-3, thermal_tau_s=0.3),
+        law="gms",
+        causes=("thermal_drift",),
+    )
+    f = FitResult(Free(("normal_force_n",), ("thermal_drift",)), m, m.values(), 0.0, 0)
+
+    def refined_to(ev: Evaluation) -> Candidate:
+        monkeypatch.setattr(SE, "fit_and_validate", lambda *args: (f, ev))  # the refinement
+        return Candidate(f, ev, 0.0, cal["gms"], Verdict())
+
+    weak = Evaluation(150e-9, 0, 5625.0 * 1000, 1000)  # 44 % of GMS's excess
+    accepted = refined_to(weak)
+    assert PL._refined(s, accepted, cal["gms"]) is None
+    assert tried == [("lugre",)]  # LuGre's calibration as good as GMS's, LS's 4 x worse
+    assert "accounts for only 44 %" in accepted.verdict.reasons[-1]
+    strong = Evaluation(60e-9, 0, 900.0 * 1000, 1000)  # 91 % of GMS's excess
+    tried.clear()
+    assert PL._refined(s, refined_to(strong), cal["gms"]) is not None
+    assert tried == [("ls", "lugre")]
 
 
 def test_a_hysteresis_whose_size_depends_on_the_law_is_the_law_s_misfit(monkeypatch):
@@ -318,7 +361,7 @@ def test_a_first_cause_whose_size_depends_on_the_law_is_refused_before_the_law_i
     unexplained = Evaluation(50e-9, 0, 625.0 * 1000, 1000)  # 25 x the noise, 94 % of LS's excess
     monkeypatch.setattr(PL, "first_stage_model", first)
     monkeypatch.setattr(SE, "fit_and_validate", lambda *args: (f, unexplained))  # the refinement
-    monkeypatch.setattr(PL, "_rechoose_law", lambda s, c: rechosen.append(c) or c)
+    monkeypatch.setattr(PL, "_rechoose_law", lambda s, c, laws=None: rechosen.append(c) or c)
     monkeypatch.setattr(PL, "_final_weakness", lambda s, c, cause, explained: ("", c))
     s, _, _ = _session()
     s.ex = _Now()
@@ -366,7 +409,7 @@ def test_a_first_cause_of_the_law_s_own_kind_that_keeps_its_size_under_every_law
         return Candidate(f, ev, 0.0, cal["ls"], Verdict())
 
     monkeypatch.setattr(PL, "first_stage_model", first)
-    monkeypatch.setattr(PL, "_rechoose_law", lambda s, c: c)
+    monkeypatch.setattr(PL, "_rechoose_law", lambda s, c, laws=None: c)
     s, _, _ = _session()
     s.ex = _Now()
     cal = _calibrated(s)  # 200 nm under each law: 10 000 noise variances
