@@ -504,12 +504,76 @@ SS_FORCE_INLINE ss_status_t step_over(const ss_actuator_config_f32_t *cfg, ss_ac
     return SS_OK;
 }
 
+/* GMS's micro-damped elements lose accuracy while the contact slips fast: at 1 us the slider
+ * drifts 2.6-3.8 nm a cycle on 15 us falls against the same run at 1/8 us, and the step's
+ * error is made on the fast edge (bench/gms_edge_substeps.c). A step whose commanded piezo
+ * velocity exceeds SS_GMS_EDGE_V_M_PER_S is taken in SS_GMS_EDGE_SUBSTEPS sub-steps. */
+#define SS_GMS_EDGE_SUBSTEPS 4
+#define SS_GMS_EDGE_V_M_PER_S 0.1f
+
+/* Does the step's drive (to drive_v, bending at corner_frac to corner_v) move the piezo fast? */
+SS_FORCE_INLINE int gms_fast_edge(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
+                                  float drive_v, float corner_frac, float corner_v)
+{
+    if (cfg->friction_model != SS_FRICTION_GMS || cfg->friction.sigma1_ns_per_m == 0.0f) {
+        return 0;
+    }
+    const float limit_v = SS_GMS_EDGE_V_M_PER_S * cfg->dt_s / fabsf(cfg->piezo_gain_m_per_v);
+    if (corner_frac > 0.0f) {
+        return fabsf(corner_v - st->drive_v) > limit_v * corner_frac ||
+               fabsf(drive_v - corner_v) > limit_v * (1.0f - corner_frac);
+    }
+    return fabsf(drive_v - st->drive_v) > limit_v;
+}
+
+/* A step of cfg's dt in SS_GMS_EDGE_SUBSTEPS sub-steps along the same drive (its corner in the
+ * sub-step it falls in); counted as one step. */
+static ss_status_t step_in_parts(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                 float drive_v, float corner_frac, float corner_v)
+{
+    const float n = (float)SS_GMS_EDGE_SUBSTEPS;
+    const float sub_dt = cfg->dt_s / n;
+    float phi[4];
+    rod_flow(cfg, sub_dt, phi);
+    const float u0 = st->drive_v;
+    for (int j = 0; j < SS_GMS_EDGE_SUBSTEPS; ++j) {
+        const float a = (float)j / n;
+        const float b = (float)(j + 1) / n;
+        /* the drive at fraction b of the step, and the corner if it lies inside (a, b) */
+        float u_b;
+        float frac = 0.0f;
+        if (corner_frac <= 0.0f) {
+            u_b = u0 + (drive_v - u0) * b;
+        } else if (b <= corner_frac) {
+            u_b = u0 + (corner_v - u0) * (b / corner_frac);
+        } else {
+            u_b = corner_v + (drive_v - corner_v) * ((b - corner_frac) / (1.0f - corner_frac));
+            if (corner_frac > a) {
+                frac = (corner_frac - a) * n;
+            }
+        }
+        if (j == SS_GMS_EDGE_SUBSTEPS - 1) {
+            u_b = drive_v; /* exactly the step's end */
+        }
+        const ss_status_t status =
+            step_over(cfg, st, phi, sub_dt, u_b, (frac > 0.0f && frac < 1.0f) ? frac : 0.0f, corner_v);
+        if (status != SS_OK) {
+            return status;
+        }
+    }
+    st->steps -= (uint32_t)(SS_GMS_EDGE_SUBSTEPS - 1);
+    return SS_OK;
+}
+
 /* One step of cfg's dt. */
 static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st, float drive_v,
                         float corner_frac, float corner_v)
 {
     if (cfg == NULL || st == NULL) {
         return SS_ERR_NULL;
+    }
+    if (gms_fast_edge(cfg, st, drive_v, corner_frac, corner_v)) {
+        return step_in_parts(cfg, st, drive_v, corner_frac, corner_v);
     }
     return step_over(cfg, st, st->phi, cfg->dt_s, drive_v, corner_frac, corner_v);
 }
@@ -773,12 +837,16 @@ SS_FORCE_INLINE int lane_step(lane_t *lane)
 
 /* The drive of the lane's next step from its player (wave_step's first half), then the step's
  * first phase. */
-SS_FORCE_INLINE ss_status_t lane_start_step(lane_t *lane, carry_t *c)
+SS_FORCE_INLINE ss_status_t lane_start_step(lane_t *lane, carry_t *c, int *whole)
 {
     ss_actuator_run_job_f32_t *j = lane->job;
     float frac;
     float corner_v;
     const float drive_v = wave_next(j->wave, j->wst, &frac, &corner_v);
+    if (isfinite(drive_v) && gms_fast_edge(j->cfg, j->st, drive_v, frac, corner_v)) {
+        *whole = 1; /* taken here whole, in sub-steps */
+        return step_in_parts(j->cfg, j->st, drive_v, frac, corner_v);
+    }
     return step_start(j->cfg, j->st, j->st->phi, j->cfg->dt_s, drive_v, frac, corner_v, c);
 }
 
@@ -866,16 +934,17 @@ ss_status_t ss_actuator_run_many_f32(ss_actuator_run_job_f32_t *jobs, uint32_t n
         int all = 1;
         while (all) {
             ss_status_t status[SS_RUN_LANES];
+            int whole[SS_RUN_LANES] = {0};
             for (int k = 0; k < SS_RUN_LANES; ++k) {
-                status[k] = busy[k] ? lane_start_step(&lane[k], &carry[k]) : SS_ERR_RANGE;
+                status[k] = busy[k] ? lane_start_step(&lane[k], &carry[k], &whole[k]) : SS_ERR_RANGE;
             }
             for (int k = 0; k < SS_RUN_LANES; ++k) {
-                if (status[k] == SS_OK) {
+                if (status[k] == SS_OK && !whole[k]) {
                     friction_begin(lane[k].job->cfg, lane[k].job->st, &carry[k], &parts[k]);
                 }
             }
             for (int k = 0; k < SS_RUN_LANES; ++k) {
-                if (status[k] == SS_OK) {
+                if (status[k] == SS_OK && !whole[k]) {
                     friction_end(lane[k].job->cfg, lane[k].job->st, &carry[k], &parts[k]);
                 }
             }
@@ -886,6 +955,8 @@ ss_status_t ss_actuator_run_many_f32(ss_actuator_run_job_f32_t *jobs, uint32_t n
                 lane[k].job->status = status[k];
                 if (status[k] != SS_OK) {
                     busy[k] = 0;
+                } else if (whole[k]) {
+                    busy[k] = lane_after_steps(&lane[k], 1u);
                 } else {
                     const ss_actuator_config_f32_t *cfg = lane[k].job->cfg;
                     ss_friction_slopes_f32_t slopes;
