@@ -843,8 +843,8 @@ SS_FORCE_INLINE ss_status_t lane_start_step(lane_t *lane, carry_t *c, int *whole
     float frac;
     float corner_v;
     const float drive_v = wave_next(j->wave, j->wst, &frac, &corner_v);
-    if (isfinite(drive_v) && gms_fast_edge(j->cfg, j->st, drive_v, frac, corner_v)) {
-        *whole = 1; /* taken here whole, in sub-steps */
+    if (gms_fast_edge(j->cfg, j->st, drive_v, frac, corner_v)) {
+        *whole = 1; /* taken here whole, in sub-steps (a non-finite drive fails in the first) */
         return step_in_parts(j->cfg, j->st, drive_v, frac, corner_v);
     }
     return step_start(j->cfg, j->st, j->st->phi, j->cfg->dt_s, drive_v, frac, corner_v, c);

@@ -525,6 +525,18 @@ def _first_share_bar(causes: tuple[str, ...]) -> float:
     return UNEXPLAINED_FINAL_SHARE
 
 
+def _short_of_its_share(s: Session, refined: Candidate, before: Candidate) -> bool:
+    """Is refined a first cause that would be refused on its share alone unless another law lifts
+    it: in a model that stays unexplained, below _first_share_bar of the error the best model
+    without it leaves?"""
+    return (
+        not before.causes
+        and not explained_enough(refined, s.sensor_noise_m)
+        and share_removed(s.without_first(refined, before), refined.mse_over_noise)
+        < _first_share_bar(refined.causes)
+    )
+
+
 def _laws_to_try(s: Session, refined: Candidate, before: Candidate) -> tuple[str, ...]:
     """The laws _rechoose_law tries for refined: every other law, but for a first cause that would
     be refused on its share alone unless another law lifts it (a model that stays unexplained,
@@ -535,10 +547,7 @@ def _laws_to_try(s: Session, refined: Candidate, before: Candidate) -> tuple[str
     fifths of the diagnosis (seeds 128-133), and LuGre and LS refitted with the cause ended
     3.5-114 x worse than the chosen model (seed 133)."""
     others = tuple(law for law in s.laws if law != refined.law)
-    if before.causes or explained_enough(refined, s.sensor_noise_m):
-        return others
-    share = share_removed(s.without_first(refined, before), refined.mse_over_noise)
-    if share >= _first_share_bar(refined.causes):
+    if not _short_of_its_share(s, refined, before):
         return others
     cal = s.calibrated
     return tuple(law for law in others if law in cal and not clearly_worse(cal[law], before))
@@ -561,9 +570,7 @@ def _law_weakness_first(
         return ""
     if explained_enough(refined, s.sensor_noise_m):
         return ""  # the re-choice may keep it explained: no test after it either
-    if not before.causes and share_removed(
-        s.without_first(refined, before), refined.mse_over_noise
-    ) < _first_share_bar(refined.causes):
+    if _short_of_its_share(s, refined, before):
         return ""
     return next((w for c in refined.causes if (w := _law_dependence(s, refined, c))), "")
 
