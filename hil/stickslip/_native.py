@@ -34,6 +34,7 @@ class FrictionConfig(C.Structure):
         ("sigma2_ns_per_m", C.c_float),
         ("asymmetry", C.c_float),
         ("gms_decay", C.c_float),
+        ("gms_stiffness_ratio", C.c_float),
     ]
 
 

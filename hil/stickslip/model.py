@@ -39,6 +39,9 @@ DT_S = _c_literal(_TABLE1.dt_s)  # Table I's step, 1 us
 # default: 1, a parabolic virgin curve, unless a calibration says otherwise. Not a dataset
 # parameter (LS has no such).
 GMS_DECAY = _c_literal(_TABLE1.friction.gms_decay)
+# ... and the stiffness of each of its elements over the one before (gms_stiffness_ratio): 1,
+# equal stiffnesses, unless a calibration says otherwise.
+GMS_STIFFNESS_RATIO = _c_literal(_TABLE1.friction.gms_stiffness_ratio)
 
 
 # names of the recorded state columns state_a, state_b (ss_actuator_trace_f32_t)
@@ -148,13 +151,15 @@ class ActuatorParams:
         dt_s: float = DT_S,
         effects: Effects | None = None,
         gms_decay: float = GMS_DECAY,
+        gms_stiffness_ratio: float = GMS_STIFFNESS_RATIO,
     ) -> N.ActuatorConfig:
-        """The C config; gms_decay shapes the GMS law's presliding curve (the other laws ignore
-        it; docs/model.md, "GMS (third law)")."""
+        """The C config; gms_decay and gms_stiffness_ratio shape the GMS law's presliding curve
+        (the other laws ignore them; docs/model.md, "GMS (third law)")."""
         effects = effects or Effects()
         fcfg = self.friction_config()
         fcfg.asymmetry = effects.friction_asymmetry
         fcfg.gms_decay = gms_decay
+        fcfg.gms_stiffness_ratio = gms_stiffness_ratio
         return N.ActuatorConfig(
             self.piezo_stiffness_n_per_m,
             self.piezo_damping_kg_per_s,
@@ -392,11 +397,12 @@ def _setup(
     variant: str = "f32",
     heat0_j: float = 0.0,
     gms_decay: float = GMS_DECAY,
+    gms_stiffness_ratio: float = GMS_STIFFNESS_RATIO,
 ) -> _Setup:
     if variant not in VARIANTS:
         raise ValueError(f"variant must be one of {VARIANTS}, got {variant!r}")
     params = params or ActuatorParams.table1()
-    cfg = params.actuator_config(model, dt_s, effects, gms_decay)
+    cfg = params.actuator_config(model, dt_s, effects, gms_decay, gms_stiffness_ratio)
     N.check_config(cfg)
     if drive_v is None:
         waveform = waveform or Sawtooth()
@@ -482,12 +488,13 @@ def simulate(
     heat0_j: float = 0.0,
     coarse_steps: int = 1,
     gms_decay: float = GMS_DECAY,
+    gms_stiffness_ratio: float = GMS_STIFFNESS_RATIO,
 ) -> SimResult:
     """Simulate the actuator under a sawtooth, or under sampled drive voltages (drive_v at
     drive_interval_s, linearly interpolated), with the C model; effects switch on optional
     physics, x0_m is where the slider starts, heat0_j the frictional heat the contact holds at the
     start (thermal_drift: what the run before left; SimResult.heat_end_j is what this one leaves);
-    gms_decay the GMS law's presliding shape.
+    gms_decay and gms_stiffness_ratio the GMS law's presliding shape.
     variant "q" runs the fixed-point core (a sawtooth, or a drive sampled at its step taken one
     sample a step, as a q node's lock-step; the slider starting at 0; of the effects,
     the load, the slew limit, the sensor scale, the asymmetric friction, the hysteresis and the
@@ -514,6 +521,7 @@ def simulate(
         variant,
         heat0_j,
         gms_decay,
+        gms_stiffness_ratio,
     )
     if variant == "q" and coarse_steps > 1:
         cols, taken = N.run_q_coarse(s.cfg, s.wave_cfg, s.n_steps, decimation, coarse_steps)
@@ -574,13 +582,16 @@ def friction_response(
     model: str = "ls",
     params: ActuatorParams | None = None,
     gms_decay: float = GMS_DECAY,
+    gms_stiffness_ratio: float = GMS_STIFFNESS_RATIO,
 ) -> np.ndarray:
     """Friction force (N) of the C model under a prescribed relative displacement x_m, sampled
-    every dt_s, starting from the virgin state at x_m[0]; gms_decay the GMS law's shape."""
+    every dt_s, starting from the virgin state at x_m[0]; gms_decay and gms_stiffness_ratio the
+    GMS law's shape."""
     params = params or ActuatorParams.table1()
     _model_id(model)  # a ValueError naming the laws for an unknown one
     fcfg = params.friction_config()
     fcfg.gms_decay = gms_decay
+    fcfg.gms_stiffness_ratio = gms_stiffness_ratio
     N.check_config(fcfg, "friction")
     dx = np.ascontiguousarray(np.diff(np.asarray(x_m, np.float64), prepend=x_m[0]), np.float32)
     return N.friction_run(model, fcfg, dx, dt_s).astype(np.float64)

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from . import _native as N
-from .model import DT_S, GMS_DECAY, ActuatorParams, Effects
+from .model import DT_S, GMS_DECAY, GMS_STIFFNESS_RATIO, ActuatorParams, Effects
 from .node_params import node_values
 
 FORMAT = "stick-slip-model/1"
@@ -42,6 +42,7 @@ class ModelFile:
     causes: tuple[str, ...] = ()  # the diagnosis' causes the effects stand for
     source: dict = field(default_factory=dict)  # where it came from (free-form, kept as is)
     gms_decay: float = GMS_DECAY  # the GMS law's presliding shape (written for GMS only)
+    gms_stiffness_ratio: float = GMS_STIFFNESS_RATIO
 
     def to_dict(self) -> dict:
         d = {
@@ -55,6 +56,7 @@ class ModelFile:
         }
         if self.law == "gms":
             d["gms_decay"] = self.gms_decay
+            d["gms_stiffness_ratio"] = self.gms_stiffness_ratio
         return d
 
     @classmethod
@@ -68,7 +70,8 @@ class ModelFile:
             raise bad(f"format: must be {FORMAT!r}, got {d.get('format')!r}")
         unknown = sorted(
             set(d)
-            - {"format", "law", "dt_s", "actuator", "effects", "causes", "source", "gms_decay"}
+            - {"format", "law", "dt_s", "actuator", "effects", "causes", "source"}
+            - {"gms_decay", "gms_stiffness_ratio"}
         )
         if unknown:
             raise bad(f"unknown keys {unknown}")
@@ -99,7 +102,10 @@ class ModelFile:
         if not isinstance(source, dict):
             raise bad("source: must be an object")
         decay = _number(d.get("gms_decay", GMS_DECAY), "gms_decay", bad)
-        m = cls(params, law, effects, dt, tuple(causes), source, decay)
+        ratio = _number(
+            d.get("gms_stiffness_ratio", GMS_STIFFNESS_RATIO), "gms_stiffness_ratio", bad
+        )
+        m = cls(params, law, effects, dt, tuple(causes), source, decay, ratio)
         try:  # the library's check: ranges, and the rules between fields (Fc <= Fs, ...)
             N.check_config(m.config())
         except ValueError as e:
@@ -107,7 +113,9 @@ class ModelFile:
         return m
 
     def config(self) -> N.ActuatorConfig:
-        return self.params.actuator_config(self.law, self.dt_s, self.effects, self.gms_decay)
+        return self.params.actuator_config(
+            self.law, self.dt_s, self.effects, self.gms_decay, self.gms_stiffness_ratio
+        )
 
     def config_q(self) -> N.ActuatorConfigQ | None:
         """The fixed-point config, or None when that family cannot run this model (GMS, an effect

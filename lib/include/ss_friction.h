@@ -15,6 +15,8 @@ typedef struct {
     float asymmetry;       /* contact force times 1 + asymmetry sgn(load): direction-dependent, [-0.9, 0.9] */
     float gms_decay;       /* GMS only: exponent of its presliding stiffness decay (ss_gms_friction.h),
                             * [0.05, 20]; 1, ss_friction_config_from_mu_f32's, a parabolic virgin curve */
+    float gms_stiffness_ratio; /* GMS only: stiffness of each element over the one before it, [0.05, 20];
+                                * 1, ss_friction_config_from_mu_f32's, equal stiffnesses */
 } ss_friction_config_f32_t;
 
 /* The friction of Table I of the LS paper as the dataset (stick-slip-dataset/1) names it:

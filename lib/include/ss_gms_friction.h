@@ -10,26 +10,32 @@
 
 #include "ss_friction.h"
 
-/* Elements in parallel. Element i = 1..N has stiffness sigma0 / N and slip level alpha_i s (the
- * alpha_i sum to 1). They discretise a virgin curve whose tangent stiffness decays as
- * sigma0 (1 - u / u_s)^d, d = cfg->gms_decay, u_s = (d + 1) Fs / sigma0: element i breaks away where
- * that stiffness falls to c_i = 1 - (2i - 1) / (2N) of sigma0, so alpha_i is proportional to
- * 1 - c_i^(1/d). d = 1 (the default): alpha_i = (2i - 1) / N^2 (1/16, 3/16, 5/16, 7/16), the
- * piecewise-linear form of the parabola F = sigma0 u - sigma0^2 u^2 / (4 Fs), saturated from
- * u = 1.75 Fs / sigma0 on; d -> 0 one elastic-plastic break-away at Fs / sigma0; large d LS's
- * exponential. */
+/* Elements in parallel. Element i = 1..N has slip level alpha_i s (the alpha_i sum to 1) and, with
+ * equal stiffnesses (cfg->gms_stiffness_ratio rho = 1, the default), stiffness sigma0 / N. They then
+ * discretise a virgin curve whose tangent stiffness decays as sigma0 (1 - u / u_s)^d,
+ * d = cfg->gms_decay, u_s = (d + 1) Fs / sigma0: element i breaks away where that stiffness falls to
+ * c_i = 1 - (2i - 1) / (2N) of sigma0, so alpha_i is proportional to 1 - c_i^(1/d). d = 1 (the
+ * default): alpha_i = (2i - 1) / N^2 (1/16, 3/16, 5/16, 7/16), the piecewise-linear form of the
+ * parabola F = sigma0 u - sigma0^2 u^2 / (4 Fs), saturated from u = 1.75 Fs / sigma0 on; d -> 0 one
+ * elastic-plastic break-away at Fs / sigma0; large d LS's exponential. With rho != 1 the stiffnesses
+ * run in a geometric progression, k_{i+1} = rho k_i, summing to sigma0, and each element keeps the
+ * break-away displacement's place in that order (proportional to 1 - c_i^(1/d)), so alpha_i is
+ * proportional to k_i (1 - c_i^(1/d)): rho < 1 puts the stiffness in the elements that break first
+ * (a steeper initial fall of the tangent stiffness and a softer tail). docs/model.md, "GMS". */
 #define SS_GMS_ELEMENTS 4
 
-/* Parameters: the shared ss_friction_config_f32_t, gms_decay its own. sigma1 damps the elements
- * that stick (sigma1 / N each, as original GMS's sigma_i = sigma1 k_i / sigma0): sigma1 = 0 makes
- * presliding exactly rate independent. An element's damping switches on and off inside steps; the
- * step's account of it (the stuck displacement) keeps its impulse exact over the steps around the
- * switch (docs/model.md, "Micro-damping"). */
+/* Parameters: the shared ss_friction_config_f32_t, gms_decay and gms_stiffness_ratio its own. sigma1
+ * damps the elements that stick (sigma1 k_i / sigma0 each, original GMS's sigma_i; sigma1 / N for
+ * equal stiffnesses): sigma1 = 0 makes presliding exactly rate independent. An element's damping
+ * switches on and off inside steps; the step's account of it (the stuck displacement) keeps its
+ * impulse exact over the steps around the switch (docs/model.md, "Micro-damping"). */
 typedef struct {
-    float f_n[SS_GMS_ELEMENTS];     /* element forces F_i = k_i (x - a_i), N; |F_i| <= alpha_i s. Kept
-                                     * instead of the anchors a_i: bounded, so long travel loses nothing */
-    float share[SS_GMS_ELEMENTS];   /* alpha_i, from gms_decay at init */
-    float stuck_m[SS_GMS_ELEMENTS]; /* the step so far: relative displacement while element i stuck, m */
+    float f_n[SS_GMS_ELEMENTS];        /* element forces F_i = k_i (x - a_i), N; |F_i| <= alpha_i s. Kept
+                                        * instead of the anchors a_i: bounded, so long travel loses nothing */
+    float share[SS_GMS_ELEMENTS];      /* alpha_i, from gms_decay and gms_stiffness_ratio at init */
+    float kscale[SS_GMS_ELEMENTS];     /* k_i / (sigma0 / N): 1 each for equal stiffnesses, at init */
+    float inv_kscale[SS_GMS_ELEMENTS]; /* 1 / kscale */
+    float stuck_m[SS_GMS_ELEMENTS];    /* the step so far: relative displacement while element i stuck, m */
     float level_n;         /* slip level s, N: Fs at init, -> g(v) in gross sliding, held otherwise */
     float elastic_n;       /* sum of the element forces, N */
     float force_n;         /* total friction after the last step, N */
@@ -47,8 +53,10 @@ ss_status_t ss_gms_init_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f3
  * the last force. */
 float ss_gms_step_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f32_t *st, float dx_m, float dt_s);
 
-/* The element shares alpha_i for a decay exponent d in [0.05, 20] (as init computes them). */
-void ss_gms_shares_f32(float decay, float share[SS_GMS_ELEMENTS]);
+/* The element shares alpha_i and stiffnesses k_i / (sigma0 / N) (kscale) for a decay exponent d and
+ * a stiffness ratio rho, both in [0.05, 20] (as init computes them). */
+void ss_gms_shares_f32(float decay, float stiffness_ratio, float share[SS_GMS_ELEMENTS],
+                       float kscale[SS_GMS_ELEMENTS]);
 
 /* Advance the elements (and in gross sliding the level) over dx_m taken in dt_s without computing a
  * force: one step, begun from the velocity dx_m / dt_s. Non-finite input changes nothing. */

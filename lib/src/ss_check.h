@@ -34,7 +34,7 @@ static inline ss_status_t ss_check_ranges_f32(const ss_range_f32_t *r, size_t n,
     return SS_OK;
 }
 
-#define SS_FRICTION_N_FIELDS 8
+#define SS_FRICTION_N_FIELDS 9
 static inline float ss_sign_f32(float v)
 {
     return (v > 0.0f) ? 1.0f : ((v < 0.0f) ? -1.0f : 0.0f);

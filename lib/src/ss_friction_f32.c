@@ -19,6 +19,7 @@ ss_friction_config_f32_t ss_friction_config_from_mu_f32(float mu_s, float mu_d, 
     cfg.sigma2_ns_per_m = sigma2_ns_per_m;
     cfg.asymmetry = 0.0f;
     cfg.gms_decay = 1.0f;
+    cfg.gms_stiffness_ratio = 1.0f;
     return cfg;
 }
 
@@ -38,9 +39,10 @@ ss_friction_config_f32_t ss_friction_config_table1_f32(void)
 /* Field names, bare and as seen from the actuator config (no string functions in lib/). */
 static const char *const FIELD_NAMES[2][SS_FRICTION_N_FIELDS] = {
     {"fs_n", "fc_n", "vs_m_per_s", "sigma0_n_per_m", "sigma1_ns_per_m", "sigma2_ns_per_m", "asymmetry",
-     "gms_decay"},
+     "gms_decay", "gms_stiffness_ratio"},
     {"friction.fs_n", "friction.fc_n", "friction.vs_m_per_s", "friction.sigma0_n_per_m",
-     "friction.sigma1_ns_per_m", "friction.sigma2_ns_per_m", "friction.asymmetry", "friction.gms_decay"},
+     "friction.sigma1_ns_per_m", "friction.sigma2_ns_per_m", "friction.asymmetry", "friction.gms_decay",
+     "friction.gms_stiffness_ratio"},
 };
 
 ss_status_t ss_friction_config_check_named_f32(const ss_friction_config_f32_t *cfg, int prefixed,
@@ -53,10 +55,15 @@ ss_status_t ss_friction_config_check_named_f32(const ss_friction_config_f32_t *c
     }
     const char *const *names = FIELD_NAMES[prefixed ? 1 : 0];
     const ss_range_f32_t ranges[SS_FRICTION_N_FIELDS] = {
-        {names[0], cfg->fs_n, 1e-6f, 1e4f},           {names[1], cfg->fc_n, 1e-6f, 1e4f},
-        {names[2], cfg->vs_m_per_s, 1e-9f, 10.0f},    {names[3], cfg->sigma0_n_per_m, 1.0f, 1e12f},
-        {names[4], cfg->sigma1_ns_per_m, 0.0f, 1e6f}, {names[5], cfg->sigma2_ns_per_m, 0.0f, 1e6f},
-        {names[6], cfg->asymmetry, -0.9f, 0.9f},      {names[7], cfg->gms_decay, 0.05f, 20.0f},
+        {names[0], cfg->fs_n, 1e-6f, 1e4f},
+        {names[1], cfg->fc_n, 1e-6f, 1e4f},
+        {names[2], cfg->vs_m_per_s, 1e-9f, 10.0f},
+        {names[3], cfg->sigma0_n_per_m, 1.0f, 1e12f},
+        {names[4], cfg->sigma1_ns_per_m, 0.0f, 1e6f},
+        {names[5], cfg->sigma2_ns_per_m, 0.0f, 1e6f},
+        {names[6], cfg->asymmetry, -0.9f, 0.9f},
+        {names[7], cfg->gms_decay, 0.05f, 20.0f},
+        {names[8], cfg->gms_stiffness_ratio, 0.05f, 20.0f},
     };
     ss_status_t st = ss_check_ranges_f32(ranges, SS_FRICTION_N_FIELDS, bad_field);
     if (st == SS_OK && cfg->fc_n > cfg->fs_n) {

@@ -7,17 +7,29 @@
 #include "ss_exp_f32.h"
 #include "ss_friction_inline_f32.h"
 
-void ss_gms_shares_f32(float decay, float share[SS_GMS_ELEMENTS])
+void ss_gms_shares_f32(float decay, float stiffness_ratio, float share[SS_GMS_ELEMENTS],
+                       float kscale[SS_GMS_ELEMENTS])
 {
-    /* element i (0-based) breaks away at u_s (1 - c_i^(1/d)), c_i = 1 - (2i + 1) / 2N; with equal
-     * stiffnesses its share is proportional to that displacement. For d = 1 every term is exact in
-     * float: 1 - c_i = (2i + 1) / 8, shares (2i + 1) / 16. */
+    /* stiffnesses rho^i, scaled to sum to N (each 1 for rho = 1, exactly) */
+    float k = 1.0f;
+    float ksum = 0.0f;
+    for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
+        kscale[i] = k;
+        ksum += k;
+        k *= stiffness_ratio;
+    }
+    for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
+        kscale[i] *= (float)SS_GMS_ELEMENTS / ksum;
+    }
+    /* element i (0-based) breaks away at a displacement proportional to 1 - c_i^(1/d),
+     * c_i = 1 - (2i + 1) / 2N; its share is its stiffness times that. For d = 1 and rho = 1 every term
+     * is exact in float: 1 - c_i = (2i + 1) / 8, shares (2i + 1) / 16. */
     const float inv_d = 1.0f / decay;
     float raw[SS_GMS_ELEMENTS];
     float sum = 0.0f;
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
         const float c = 1.0f - (float)(2 * i + 1) / (float)(2 * SS_GMS_ELEMENTS);
-        raw[i] = 1.0f - powf(c, inv_d);
+        raw[i] = kscale[i] * (1.0f - powf(c, inv_d));
         sum += raw[i];
     }
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
@@ -41,9 +53,10 @@ ss_status_t ss_gms_init_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f3
     if (status != SS_OK) {
         return status;
     }
-    ss_gms_shares_f32(cfg->gms_decay, st->share);
+    ss_gms_shares_f32(cfg->gms_decay, cfg->gms_stiffness_ratio, st->share, st->kscale);
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
         st->f_n[i] = 0.0f;
+        st->inv_kscale[i] = 1.0f / st->kscale[i];
     }
     st->level_n = cfg->fs_n;
     st->elastic_n = 0.0f;
@@ -91,7 +104,7 @@ void ss_gms_advance_piece_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_
     float trial[SS_GMS_ELEMENTS];
     int all_slip = 1;
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
-        trial[i] = st->f_n[i] + kdx;
+        trial[i] = st->f_n[i] + kdx * st->kscale[i];
         if (d * trial[i] < st->share[i] * st->level_n) {
             all_slip = 0;
         }
@@ -109,7 +122,7 @@ void ss_gms_advance_piece_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_
         const float w = st->share[i] * st->level_n;
         if (d * st->f_n[i] < w) {
             /* stuck at the piece's start: for all of it, or to where it reaches its level */
-            const float part = (d * trial[i] > w) ? (w - d * st->f_n[i]) * inv_kdx : 1.0f;
+            const float part = (d * trial[i] > w) ? (w - d * st->f_n[i]) * inv_kdx * st->inv_kscale[i] : 1.0f;
             st->stuck_m[i] += part * dx_m;
         }
         /* an element past its slip level slips; compares, not libm's fminf / fmaxf calls (the same
@@ -144,21 +157,22 @@ float ss_gms_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_gms_stat
      * over this step and the next sigma1 / N times its stuck displacement: this force acts for
      * half of this step and half of the next, the start force (at v_start) for half of this one.
      * Broke away: stuck / dt - v_start / 2; stuck again after a turn: stuck / dt + v / 2. */
-    int below = 0;
-    float per_v = 0.0f; /* damped elements, by their weight on v */
+    float below = 0.0f; /* stiffness of the elements below their level, in units of sigma0 / N */
+    float per_v = 0.0f; /* damped elements, by their stiffness and their weight on v */
     float owed = 0.0f;  /* the switched elements' part that does not depend on v, m/s */
     const float inv_step = (st->step_s > 0.0f) ? 1.0f / st->step_s : 0.0f;
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
-        below += (fabsf(st->f_n[i]) < st->share[i] * st->level_n) ? 1 : 0;
+        const float ks = st->kscale[i];
+        below += (fabsf(st->f_n[i]) < st->share[i] * st->level_n) ? ks : 0.0f;
         const int end = damped_at(st, i, v_m_per_s);
         const int start = (int)((st->damped_start >> i) & 1u);
         if (start == end) {
-            per_v += (float)end;
+            per_v += (float)end * ks;
         } else if (start) {
-            owed += st->stuck_m[i] * inv_step - 0.5f * st->v_start_m_per_s;
+            owed += ks * (st->stuck_m[i] * inv_step - 0.5f * st->v_start_m_per_s);
         } else {
-            owed += st->stuck_m[i] * inv_step;
-            per_v += 0.5f;
+            owed += ks * (st->stuck_m[i] * inv_step);
+            per_v += 0.5f * ks;
         }
     }
     const float c_i = asym * cfg->sigma1_ns_per_m / (float)SS_GMS_ELEMENTS;
@@ -166,7 +180,7 @@ float ss_gms_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_gms_stat
         slopes->dfdv_ns_per_m = cfg->sigma2_ns_per_m + c_i * per_v;
         /* an element at its slip level takes no more load in the direction it slipped: the last
          * motion's (none yet: every element sticks) */
-        slopes->dfdx_n_per_m = asym * cfg->sigma0_n_per_m * ((float)below / (float)SS_GMS_ELEMENTS);
+        slopes->dfdx_n_per_m = asym * cfg->sigma0_n_per_m * (below / (float)SS_GMS_ELEMENTS);
     }
     return asym * st->elastic_n + (cfg->sigma2_ns_per_m + c_i * per_v) * v_m_per_s + c_i * owed;
 }

@@ -41,28 +41,41 @@ static float gms_move(const ss_friction_config_f32_t *c, ss_gms_state_f32_t *st,
     return f;
 }
 
-/* The element shares of docs/model.md in double: proportional to 1 - c_i^(1/d), c_i = 1 - (2i-1)/2N. */
-static void shares(double decay, double out[SS_GMS_ELEMENTS])
+/* The element distribution of docs/model.md in double: stiffnesses k_i / sigma0 proportional to
+ * rho^(i-1) and summing to 1, shares alpha_i proportional to k_i (1 - c_i^(1/d)),
+ * c_i = 1 - (2i-1)/2N. */
+static void distribution(double decay, double rho, double alpha[SS_GMS_ELEMENTS], double k[SS_GMS_ELEMENTS])
 {
-    double sum = 0.0;
+    double sum = 0.0, ksum = 0.0;
     for (int i = 1; i <= SS_GMS_ELEMENTS; ++i) {
-        out[i - 1] = 1.0 - pow(1.0 - (2.0 * i - 1.0) / (2.0 * SS_GMS_ELEMENTS), 1.0 / decay);
-        sum += out[i - 1];
+        k[i - 1] = pow(rho, i - 1.0);
+        ksum += k[i - 1];
+    }
+    for (int i = 1; i <= SS_GMS_ELEMENTS; ++i) {
+        k[i - 1] /= ksum;
+        alpha[i - 1] = k[i - 1] * (1.0 - pow(1.0 - (2.0 * i - 1.0) / (2.0 * SS_GMS_ELEMENTS), 1.0 / decay));
+        sum += alpha[i - 1];
     }
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
-        out[i] /= sum;
+        alpha[i] /= sum;
     }
 }
 
-/* The virgin curve of docs/model.md: sum over i of min(sigma0 u / N, alpha_i Fs); for the default
- * decay 1, alpha_i = (2i-1)/N^2. */
+static void shares(double decay, double out[SS_GMS_ELEMENTS])
+{
+    double k[SS_GMS_ELEMENTS];
+    distribution(decay, 1.0, out, k);
+}
+
+/* The virgin curve of docs/model.md: sum over i of min(k_i u, alpha_i Fs); for the default decay 1
+ * and stiffness ratio 1, k_i = sigma0 / N and alpha_i = (2i-1)/N^2. */
 static double virgin_curve(const ss_friction_config_f32_t *c, double u)
 {
-    double alpha[SS_GMS_ELEMENTS];
-    shares((double)c->gms_decay, alpha);
+    double alpha[SS_GMS_ELEMENTS], k[SS_GMS_ELEMENTS];
+    distribution((double)c->gms_decay, (double)c->gms_stiffness_ratio, alpha, k);
     double f = 0.0;
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
-        f += fmin((double)c->sigma0_n_per_m / SS_GMS_ELEMENTS * fabs(u), alpha[i] * (double)c->fs_n);
+        f += fmin((double)c->sigma0_n_per_m * k[i] * fabs(u), alpha[i] * (double)c->fs_n);
     }
     return (u < 0.0) ? -f : f;
 }
@@ -73,16 +86,17 @@ static double virgin_curve(const ss_friction_config_f32_t *c, double u)
 static void test_gms_shares(void **unused)
 {
     (void)unused;
-    float s[SS_GMS_ELEMENTS];
-    ss_gms_shares_f32(1.0f, s);
+    float s[SS_GMS_ELEMENTS], ks[SS_GMS_ELEMENTS];
+    ss_gms_shares_f32(1.0f, 1.0f, s, ks);
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
         assert_true(s[i] == (float)(2 * i + 1) / 16.0f);
+        assert_true(ks[i] == 1.0f);
     }
     const float decays[] = {0.05f, 0.125f, 0.5f, 1.0f, 2.0f, 4.0f, 8.0f, 20.0f};
     for (size_t k = 0; k < sizeof decays / sizeof decays[0]; ++k) {
         double want[SS_GMS_ELEMENTS];
         shares((double)decays[k], want);
-        ss_gms_shares_f32(decays[k], s);
+        ss_gms_shares_f32(decays[k], 1.0f, s, ks);
         double sum = 0.0;
         for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
             assert_close(s[i], want[i], 4.0 * FLT_EPSILON);
@@ -91,9 +105,9 @@ static void test_gms_shares(void **unused)
         }
         assert_close(sum, 1.0, 4.0 * FLT_EPSILON);
     }
-    ss_gms_shares_f32(0.05f, s);
+    ss_gms_shares_f32(0.05f, 1.0f, s, ks);
     assert_true(s[3] / s[0] < 1.08f); /* c_0^20 = 0.875^20 = 0.069: 1 against 1 - 0.069 */
-    ss_gms_shares_f32(20.0f, s);
+    ss_gms_shares_f32(20.0f, 1.0f, s, ks);
     double lim = 0.0, sum_ln = 0.0;
     for (int i = 1; i <= SS_GMS_ELEMENTS; ++i) {
         sum_ln += -log(1.0 - (2.0 * i - 1.0) / (2.0 * SS_GMS_ELEMENTS));
@@ -212,6 +226,83 @@ static void test_gms_virgin_curve_is_piecewise_linear(void **unused)
                   off / (double)c.fs_n);
     assert_true(worst <= 8.0 * FLT_EPSILON * (double)c.fs_n);
     assert_true(off < (double)c.fs_n / 16.0);
+}
+
+/* Unequal stiffnesses (gms_stiffness_ratio rho): the virgin curve is sum_i min(k_i u, alpha_i Fs)
+ * with k_i in a geometric progression summing to sigma0; it starts at slope sigma0, reaches Fs, and
+ * its break-away displacements alpha_i Fs / k_i stand in the same ratios as with equal stiffnesses
+ * (only the stiffness of each element changes). A sticking element is damped by sigma1 k_i / sigma0. */
+static void test_gms_unequal_stiffnesses(void **unused)
+{
+    (void)unused;
+    ss_friction_config_f32_t c = undamped();
+    c.sigma2_ns_per_m = 0.0f;
+    c.gms_decay = 2.0f;
+    const double h = ldexp(1.0, -27);
+    const float rhos[] = {0.05f, 0.4f, 2.5f, 20.0f};
+    for (size_t r = 0; r < sizeof rhos / sizeof rhos[0]; ++r) {
+        c.gms_stiffness_ratio = rhos[r];
+        ss_gms_state_f32_t st, eq;
+        ss_gms_init_f32(&c, &st);
+        ss_friction_config_f32_t e = c;
+        e.gms_stiffness_ratio = 1.0f;
+        ss_gms_init_f32(&e, &eq);
+        double ksum = 0.0, ratio_off = 0.0;
+        for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
+            ksum += (double)st.kscale[i] / SS_GMS_ELEMENTS;
+            const double gap = (double)st.share[i] / (double)st.kscale[i];
+            const double gap_eq = (double)eq.share[i] / (double)eq.kscale[i];
+            ratio_off = fmax(ratio_off, fabs(gap / ((double)st.share[0] / (double)st.kscale[0]) -
+                                             gap_eq / ((double)eq.share[0] / (double)eq.kscale[0])) /
+                                            (gap_eq / ((double)eq.share[0] / (double)eq.kscale[0])));
+            assert_true(i == 0 || fabs(st.kscale[i] / st.kscale[i - 1] - rhos[r]) < 1e-5 * rhos[r]);
+        }
+        assert_close(ksum, 1.0, 4.0 * FLT_EPSILON);
+        assert_true(ratio_off < 1e-5);
+        double worst = 0.0;
+        float f = 0.0f;
+        for (int n = 1; n <= 1340; ++n) { /* to 10 um: past full slip for every rho here */
+            f = ss_gms_step_f32(&c, &st, (float)h, 1.0f);
+            worst = fmax(worst, fabs(f - virgin_curve(&c, n * h)));
+        }
+        ss_gms_init_f32(&c, &st);
+        const float f1 = ss_gms_step_f32(&c, &st, 1e-12f, 1.0f);
+        print_message(
+            "stiffness ratio %.2f: %.3g N off the curve, initial slope %.6g sigma0, %.6g Fs at 10 um\n",
+            (double)rhos[r], worst, (double)f1 / 1e-12 / (double)c.sigma0_n_per_m,
+            (double)f / (double)c.fs_n);
+        assert_true(worst <= 16.0 * FLT_EPSILON * (double)c.fs_n);
+        assert_close((double)f1 / 1e-12, (double)c.sigma0_n_per_m, 1e-4 * (double)c.sigma0_n_per_m);
+        assert_close(f, (double)c.fs_n, 4.0 * FLT_EPSILON * (double)c.fs_n);
+    }
+    /* the damping of the sticking elements: sigma1 times their stiffness over sigma0 */
+    c = table1();
+    c.sigma2_ns_per_m = 0.0f;
+    c.gms_stiffness_ratio = 0.4f;
+    ss_friction_config_f32_t u = c;
+    u.sigma1_ns_per_m = 0.0f;
+    ss_gms_state_f32_t d, e;
+    ss_gms_init_f32(&c, &d);
+    ss_gms_init_f32(&u, &e);
+    int seen = 0;
+    for (int i = 0; i < 400; ++i) { /* 0.8 um forward in 2 nm steps at 2 mm/s: elements break one by one */
+        const ss_gms_state_f32_t before = e;
+        const float fd = ss_gms_step_f32(&c, &d, 2e-9f, 1e-6f);
+        const float fe = ss_gms_step_f32(&u, &e, 2e-9f, 1e-6f);
+        double k_stuck = 0.0;
+        int broke = 0;
+        for (int k = 0; k < SS_GMS_ELEMENTS; ++k) {
+            const float w = e.share[k] * e.level_n;
+            k_stuck += (fabsf(e.f_n[k]) < w) ? (double)e.kscale[k] / SS_GMS_ELEMENTS : 0.0;
+            broke += (fabsf(before.f_n[k]) < w && fabsf(e.f_n[k]) >= w) ? 1 : 0;
+        }
+        if (broke == 0 && k_stuck > 0.0) {
+            assert_close((double)fd - (double)fe, (double)c.sigma1_ns_per_m * k_stuck * 2e-3,
+                         1e-6 * (double)c.fs_n);
+            seen++;
+        }
+    }
+    assert_true(seen > 100);
 }
 
 /* sigma0 is the initial stiffness, from rest and right after any reversal. */
@@ -635,6 +726,7 @@ int main(void)
         cmocka_unit_test(test_gms_api),
         cmocka_unit_test(test_gms_shares),
         cmocka_unit_test(test_gms_virgin_curve_is_piecewise_linear),
+        cmocka_unit_test(test_gms_unequal_stiffnesses),
         cmocka_unit_test(test_gms_initial_stiffness),
         cmocka_unit_test(test_gms_saturation),
         cmocka_unit_test(test_gms_wiping_out),

@@ -1,5 +1,7 @@
 """GMS, the third friction law, through the Python API (docs/model.md, "GMS (third law)")."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -62,6 +64,33 @@ def test_gms_presliding_shape_and_damping():
     np.testing.assert_allclose(fast[1:] - slow[1:], damping * dv, rtol=1e-3)
     with pytest.raises(ValueError, match="gms_decay"):
         simulate(Sawtooth(cycles=1), model="gms", gms_decay=0.0)
+
+
+def test_gms_stiffness_ratio():
+    """gms_stiffness_ratio rho (docs/model.md, "Unequal stiffnesses"): stiffnesses in the ratio
+    1 : rho : rho^2 : rho^3 summing to sigma0, break-away displacements in the same ratios as for
+    equal stiffnesses; the virgin curve is sum_i min(k_i u, alpha_i Fs), computed here afresh
+    (without micro-damping: the elastic part)."""
+    p = dataclasses.replace(ActuatorParams(), sigma1_ns_per_m=0.0)
+    fs, s0 = p.fs_n, p.sigma0_n_per_m
+    x = np.linspace(0.0, 4 * fs / s0, 2001)
+    rho = 0.4
+    k = rho ** np.arange(4)
+    k = s0 * k / k.sum()
+    gap = (2 * np.arange(1, 5) - 1) / 16 * 4  # equal stiffnesses' break-aways at d = 1, in Fs/s0
+    alpha = k * gap / np.sum(k * gap)
+    f = friction_response(x, 1e-3, "gms", p, gms_stiffness_ratio=rho)
+    elastic = np.minimum.outer(np.outer(x, k), alpha * fs).diagonal(axis1=1, axis2=2).sum(axis=1)
+    expect = elastic + p.sigma2_ns_per_m * np.diff(x, prepend=x[0]) / 1e-3
+    assert np.max(np.abs(f - expect)) < 1e-5 * fs
+    # the same initial stiffness, a softer tail than equal stiffnesses
+    equal = friction_response(x, 1e-3, "gms", p)
+    assert f[1] == pytest.approx(equal[1], rel=1e-4)
+    at = int(np.searchsorted(x, 1.5 * fs / s0))
+    assert f[at] < equal[at] - 0.05 * fs
+    assert f[-1] == pytest.approx(fs, rel=1e-5)
+    with pytest.raises(ValueError, match="gms_stiffness_ratio"):
+        simulate(Sawtooth(cycles=1), model="gms", gms_stiffness_ratio=30.0)
 
 
 def test_gms_has_no_fixed_point_variant():

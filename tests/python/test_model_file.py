@@ -31,12 +31,14 @@ def test_round_trip(tmp_path):
 
 
 def test_a_gms_model_keeps_its_presliding_shape(tmp_path):
-    m = MF.ModelFile(ActuatorParams.table1(), "gms", gms_decay=3.5)
-    assert m.to_dict()["gms_decay"] == 3.5
+    m = MF.ModelFile(ActuatorParams.table1(), "gms", gms_decay=3.5, gms_stiffness_ratio=0.5)
+    assert m.to_dict()["gms_decay"] == 3.5 and m.to_dict()["gms_stiffness_ratio"] == 0.5
     back = MF.load(MF.save(m, tmp_path / "m.json"))
     assert back == m and back.config().friction.gms_decay == 3.5
+    assert back.config().friction.gms_stiffness_ratio == 0.5
     # other laws have no such shape: not written, the default when read
     assert "gms_decay" not in MF.ModelFile(ActuatorParams.table1()).to_dict()
+    assert "gms_stiffness_ratio" not in MF.ModelFile(ActuatorParams.table1()).to_dict()
 
 
 def _good() -> dict:
@@ -61,6 +63,10 @@ BAD = [
     (lambda d: d.update(source=[]), "source: must be an object"),
     (lambda d: d.update(gms_decay="steep"), "gms_decay: expected a finite number"),
     (lambda d: d.update(law="gms", gms_decay=50.0), "parameter gms_decay: parameter out of range"),
+    (
+        lambda d: d.update(law="gms", gms_stiffness_ratio=0.0),
+        "parameter gms_stiffness_ratio: parameter out of range",
+    ),
 ]
 
 
