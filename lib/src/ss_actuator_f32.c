@@ -507,15 +507,19 @@ SS_FORCE_INLINE ss_status_t step_over(const ss_actuator_config_f32_t *cfg, ss_ac
 /* GMS's micro-damped elements lose accuracy while the contact slips fast: at 1 us the slider
  * drifts 2.6-3.8 nm a cycle on 15 us falls against the same run at 1/8 us, and the step's
  * error is made on the fast edge (bench/gms_edge_substeps.c). A step whose commanded piezo
- * velocity exceeds SS_GMS_EDGE_V_M_PER_S is taken in SS_GMS_EDGE_SUBSTEPS sub-steps. */
+ * velocity exceeds SS_GMS_EDGE_V_M_PER_S is taken in SS_GMS_EDGE_SUBSTEPS sub-steps (1: every
+ * step whole, as before; bench/gms_edge_cost.c builds it so to time what the sub-steps cost). */
+#ifndef SS_GMS_EDGE_SUBSTEPS
 #define SS_GMS_EDGE_SUBSTEPS 4
+#endif
 #define SS_GMS_EDGE_V_M_PER_S 0.1f
 
 /* Does the step's drive (to drive_v, bending at corner_frac to corner_v) move the piezo fast? */
 SS_FORCE_INLINE int gms_fast_edge(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
                                   float drive_v, float corner_frac, float corner_v)
 {
-    if (cfg->friction_model != SS_FRICTION_GMS || cfg->friction.sigma1_ns_per_m == 0.0f) {
+    if (SS_GMS_EDGE_SUBSTEPS < 2 || cfg->friction_model != SS_FRICTION_GMS ||
+        cfg->friction.sigma1_ns_per_m == 0.0f) {
         return 0;
     }
     const float limit_v = SS_GMS_EDGE_V_M_PER_S * cfg->dt_s / fabsf(cfg->piezo_gain_m_per_v);
