@@ -2,9 +2,9 @@
  * for a micro-damped GMS"): median ns per actuator step of a micro-damped GMS (seed 131's
  * calibration: sigma1 104 N s/m, gms_decay 4.3) under sawtooths with 15 us falls, 100 Hz to
  * 2 kHz, and the paper's drive (500 Hz, 100 us fall: no step fast enough to be sub-stepped).
- * Built twice: gms_edge_cost against the library, gms_edge_cost_whole from the library's sources
- * with SS_GMS_EDGE_SUBSTEPS=1 (every step whole). Run them alternately (BENCHMARKS.md has the
- * command) and compare the medians.
+ * Built twice: gms_edge_cost against the library, gms_edge_cost_whole against the same library
+ * built with SS_GMS_EDGE_SUBSTEPS=1 (every step whole; lib/CMakeLists.txt, stickslip_whole_steps,
+ * built on request). Run them alternately (BENCHMARKS.md has the command); compare the medians.
  *
  *   build/host/bench/gms_edge_cost [repeats] [cycles] */
 #include <math.h>

@@ -152,11 +152,11 @@ float ss_gms_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_gms_stat
 {
     /* asymmetric friction scales the contact's elastic and micro-damping force, as in LS */
     const float asym = ss_asymmetry_inline_f32(cfg, st->elastic_n);
-    /* An element damped at both ends of the step adds sigma1 / N v, the step's trapezoid with the
-     * force it began with. One whose damping switched inside the step adds what makes its impulse
-     * over this step and the next sigma1 / N times its stuck displacement: this force acts for
-     * half of this step and half of the next, the start force (at v_start) for half of this one.
-     * Broke away: stuck / dt - v_start / 2; stuck again after a turn: stuck / dt + v / 2. */
+    /* An element damped at both ends of the step adds sigma_i v (sigma_i = sigma1 k_i / sigma0), the
+     * step's trapezoid with the force it began with. One whose damping switched inside the step adds
+     * what makes its impulse over this step and the next sigma_i times its stuck displacement: this
+     * force acts for half of this step and half of the next, the start force (at v_start) for half
+     * of this one. Broke away: stuck / dt - v_start / 2; stuck again after a turn: stuck / dt + v / 2. */
     float below = 0.0f; /* stiffness of the elements below their level, in units of sigma0 / N */
     float per_v = 0.0f; /* damped elements, by their stiffness and their weight on v */
     float owed = 0.0f;  /* the switched elements' part that does not depend on v, m/s */
