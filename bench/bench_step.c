@@ -2,30 +2,16 @@
  * Usage: bench_step [repeats] [cycles]   (see bench/run_benchmarks.py) */
 #include <stdio.h>
 #include <stdlib.h>
-#include <time.h>
 
+#include "bench_timing.h"
 #include "ss_actuator.h"
 #include "ss_actuator_q.h"
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 int main(int argc, char **argv)
 {
-    const int repeats = argc > 1 ? atoi(argv[1]) : 11;
-    const unsigned cycles = argc > 2 ? (unsigned)atoi(argv[2]) : 100u;
-    if (repeats < 1 || repeats > 1000 || cycles < 1u || cycles > 100000u) {
-        fprintf(stderr, "bench_step: repeats in [1, 1000], cycles in [1, 100000]\n");
+    int repeats;
+    unsigned cycles;
+    if (!bench_args(argc, argv, "bench_step", &repeats, &cycles)) {
         return 2;
     }
     double *t = malloc(sizeof(double) * (size_t)repeats);
@@ -46,12 +32,12 @@ int main(int argc, char **argv)
             ss_actuator_init_f32(&cfg, &st, 0.0f);
             steps = (uint32_t)((double)cycles / 500.0 / (double)cfg.dt_s + 0.5);
             uint32_t rows = 0;
-            const double t0 = now_s();
+            const double t0 = bench_now_s();
             ss_actuator_run_f32(&cfg, &st, &w, &ws, steps, 1u, NULL, &rows);
-            t[r] = now_s() - t0;
+            t[r] = bench_now_s() - t0;
             sink += ss_position_value_f32(st.x_slider);
         }
-        qsort(t, (size_t)repeats, sizeof(double), cmp);
+        qsort(t, (size_t)repeats, sizeof(double), bench_cmp_double);
         const double med = t[repeats / 2];
         printf(
             "{\"model\": \"%s\", \"steps\": %u, \"repeats\": %d, \"median_s\": %.6g, \"ns_per_step\": %.4g, "
@@ -83,25 +69,25 @@ int main(int argc, char **argv)
                 }
             }
             uint32_t rows = 0;
-            double t0 = now_s();
+            double t0 = bench_now_s();
             for (int k = 0; k < 2; ++k) {
                 ss_actuator_run_f32(&cfg[k], &st[0][k], &w, &ws[0][k], steps, 1u, NULL, &rows);
             }
-            t[r] = now_s() - t0;
+            t[r] = bench_now_s() - t0;
             ss_actuator_run_job_f32_t jobs[2];
             for (int k = 0; k < 2; ++k) {
                 jobs[k] = (ss_actuator_run_job_f32_t){&cfg[k], &st[1][k], &w, &ws[1][k], steps,
                                                       1u,      NULL,      0u, SS_OK};
             }
-            t0 = now_s();
+            t0 = bench_now_s();
             ss_actuator_run_many_f32(jobs, 2u);
-            tb[r] = now_s() - t0;
+            tb[r] = bench_now_s() - t0;
             for (int k = 0; k < 2; ++k) {
                 same &= ss_position_value_f32(st[0][k].x_slider) == ss_position_value_f32(st[1][k].x_slider);
             }
         }
-        qsort(t, (size_t)repeats, sizeof(double), cmp);
-        qsort(tb, (size_t)repeats, sizeof(double), cmp);
+        qsort(t, (size_t)repeats, sizeof(double), bench_cmp_double);
+        qsort(tb, (size_t)repeats, sizeof(double), bench_cmp_double);
         printf("{\"model\": \"%s_pair\", \"steps\": %u, \"repeats\": %d, \"ns_per_step_alone\": %.4g, "
                "\"ns_per_step_batch\": %.4g, \"speedup\": %.3g, \"same_bits\": %s}\n",
                names[m], 2u * steps, repeats, 1e9 * t[repeats / 2] / (2.0 * steps),
@@ -123,12 +109,12 @@ int main(int argc, char **argv)
             ss_waveform_init_q(&w, cfg.dt_q40, &ws);
             ss_actuator_init_q(&cfg, &st, 0);
             uint32_t rows = 0;
-            const double t0 = now_s();
+            const double t0 = bench_now_s();
             ss_actuator_run_q(&cfg, &st, &w, &ws, steps, 1u, NULL, &rows);
-            t[r] = now_s() - t0;
+            t[r] = bench_now_s() - t0;
             sink += (double)st.x_slider_q40 / 1099511627776.0;
         }
-        qsort(t, (size_t)repeats, sizeof(double), cmp);
+        qsort(t, (size_t)repeats, sizeof(double), bench_cmp_double);
         const double med = t[repeats / 2];
         printf("{\"model\": \"%s_q\", \"steps\": %u, \"repeats\": %d, \"median_s\": %.6g, \"ns_per_step\": "
                "%.4g, "

@@ -10,29 +10,15 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <time.h>
 
+#include "bench_timing.h"
 #include "ss_actuator.h"
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 int main(int argc, char **argv)
 {
-    const int repeats = argc > 1 ? atoi(argv[1]) : 11;
-    const unsigned cycles = argc > 2 ? (unsigned)atoi(argv[2]) : 100u;
-    if (repeats < 1 || repeats > 1000 || cycles < 1u || cycles > 100000u) {
-        fprintf(stderr, "gms_edge_cost: repeats in [1, 1000], cycles in [1, 100000]\n");
+    int repeats;
+    unsigned cycles;
+    if (!bench_args(argc, argv, "gms_edge_cost", &repeats, &cycles)) {
         return 2;
     }
     double *t = malloc(sizeof(double) * (size_t)repeats);
@@ -55,12 +41,12 @@ int main(int argc, char **argv)
             ss_waveform_init_f32(&w, cfg.dt_s, &ws);
             ss_actuator_init_f32(&cfg, &st, 0.0f);
             uint32_t rows = 0;
-            const double t0 = now_s();
+            const double t0 = bench_now_s();
             ss_actuator_run_f32(&cfg, &st, &w, &ws, steps, 1u, NULL, &rows);
-            t[r] = now_s() - t0;
+            t[r] = bench_now_s() - t0;
             x_end = (double)ss_position_value_f32(st.x_slider);
         }
-        qsort(t, (size_t)repeats, sizeof(double), cmp);
+        qsort(t, (size_t)repeats, sizeof(double), bench_cmp_double);
         printf("{\"hz\": %.0f, \"fall_us\": %.0f, \"steps\": %u, \"repeats\": %d, \"ns_per_step\": %.4g, "
                "\"x_end_um\": %.6g}\n",
                (double)hz[q], (1.0 - (double)rise) / (double)hz[q] * 1e6, steps, repeats,
