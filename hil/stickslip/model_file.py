@@ -70,8 +70,17 @@ class ModelFile:
             raise bad(f"format: must be {FORMAT!r}, got {d.get('format')!r}")
         unknown = sorted(
             set(d)
-            - {"format", "law", "dt_s", "actuator", "effects", "causes", "source"}
-            - {"gms_decay", "gms_stiffness_ratio"}
+            - {
+                "format",
+                "law",
+                "dt_s",
+                "actuator",
+                "effects",
+                "causes",
+                "source",
+                "gms_decay",
+                "gms_stiffness_ratio",
+            }
         )
         if unknown:
             raise bad(f"unknown keys {unknown}")

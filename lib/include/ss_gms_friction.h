@@ -30,12 +30,11 @@
  * switches on and off inside steps; the step's account of it (the stuck displacement) keeps its
  * impulse exact over the steps around the switch (docs/model.md, "Micro-damping"). */
 typedef struct {
-    float f_n[SS_GMS_ELEMENTS];        /* element forces F_i = k_i (x - a_i), N; |F_i| <= alpha_i s. Kept
-                                        * instead of the anchors a_i: bounded, so long travel loses nothing */
-    float share[SS_GMS_ELEMENTS];      /* alpha_i, from gms_decay and gms_stiffness_ratio at init */
-    float kscale[SS_GMS_ELEMENTS];     /* k_i / (sigma0 / N): 1 each for equal stiffnesses, at init */
-    float inv_kscale[SS_GMS_ELEMENTS]; /* 1 / kscale */
-    float stuck_m[SS_GMS_ELEMENTS];    /* the step so far: relative displacement while element i stuck, m */
+    float f_n[SS_GMS_ELEMENTS];     /* element forces F_i = k_i (x - a_i), N; |F_i| <= alpha_i s. Kept
+                                     * instead of the anchors a_i: bounded, so long travel loses nothing */
+    float share[SS_GMS_ELEMENTS];   /* alpha_i, from gms_decay and gms_stiffness_ratio at init */
+    float kscale[SS_GMS_ELEMENTS];  /* k_i / (sigma0 / N): 1 each for equal stiffnesses, at init */
+    float stuck_m[SS_GMS_ELEMENTS]; /* the step so far: relative displacement while element i stuck, m */
     float level_n;         /* slip level s, N: Fs at init, -> g(v) in gross sliding, held otherwise */
     float elastic_n;       /* sum of the element forces, N */
     float force_n;         /* total friction after the last step, N */

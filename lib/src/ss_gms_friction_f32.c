@@ -56,7 +56,6 @@ ss_status_t ss_gms_init_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_f3
     ss_gms_shares_f32(cfg->gms_decay, cfg->gms_stiffness_ratio, st->share, st->kscale);
     for (int i = 0; i < SS_GMS_ELEMENTS; ++i) {
         st->f_n[i] = 0.0f;
-        st->inv_kscale[i] = 1.0f / st->kscale[i];
     }
     st->level_n = cfg->fs_n;
     st->elastic_n = 0.0f;
@@ -122,7 +121,9 @@ void ss_gms_advance_piece_f32(const ss_friction_config_f32_t *cfg, ss_gms_state_
         const float w = st->share[i] * st->level_n;
         if (d * st->f_n[i] < w) {
             /* stuck at the piece's start: for all of it, or to where it reaches its level */
-            const float part = (d * trial[i] > w) ? (w - d * st->f_n[i]) * inv_kdx * st->inv_kscale[i] : 1.0f;
+            /* (the reciprocal of its stiffness here, where an element breaks away, not kept) */
+            const float part =
+                (d * trial[i] > w) ? (w - d * st->f_n[i]) * inv_kdx * (1.0f / st->kscale[i]) : 1.0f;
             st->stuck_m[i] += part * dx_m;
         }
         /* an element past its slip level slips; compares, not libm's fminf / fmaxf calls (the same
