@@ -179,3 +179,39 @@ def test_a_polish_differentiates_at_the_models_own_step(monkeypatch):
         # the residual itself, hence the optimum, always at the model's own step
         assert {dt for is_col, dt in steps if not is_col} <= {F.MAX_DT_S, jac_step}
     assert F.JAC_MAX_DT_S > F.MAX_DT_S  # the test would not tell the two apart otherwise
+
+
+def test_a_refit_on_rows_fits_those_rows_alone_and_predicts_the_others():
+    """refit_on_rows (the cross-validation's full refit without a family) fits the kept rows
+    only: on runs whose first two were made with a 0.1 N load and the third with -0.1 N, it
+    ends at 0.1 N from 0.01 N, as if the third run were not there, and returns that model's
+    residual on every row (the third run's is what the guard reads)."""
+    from pathlib import Path
+
+    from stickslip.dataset import load
+
+    root = Path(__file__).resolve().parents[2]
+    every_run = F.prepare_all(load(root / "examples" / "hidden-effect").runs)
+    runs = [every_run[i] for i in (2, 3, 0)]  # 100 Hz both ways, then 500 Hz forward
+    free = Free((), ("external_load",))
+    loaded = [Model(NOMINAL, Effects(load_n=f), causes=("external_load",)) for f in (0.1, -0.1)]
+    made = [F.predict_all([r], loaded[i == 2], pooled=False)[0] for i, r in enumerate(runs)]
+    runs = [replace(r, x_m=np.array(x)) for r, x in zip(runs, made)]
+    every = F.strides(runs)
+    run_of_row = np.concatenate(
+        [np.full(len(r.x_m[::k]), i) for i, (r, k) in enumerate(zip(runs, every))]
+    )
+    start = replace(loaded[0], effects=Effects(load_n=0.01))
+    noise_m = 2e-9
+
+    r = F.refit_on_rows(runs, NOMINAL, start, free, noise_m, run_of_row != 2, 10)
+
+    assert r.shape == run_of_row.shape
+    kept = r[run_of_row != 2]
+    assert np.sqrt(np.mean(kept**2)) < 0.05  # the two runs' own load, to a twentieth of the noise
+    # the third run predicted by the kept runs' model, not pulled toward its own load
+    at_kept = F.residuals(runs, loaded[0], noise_m, every)
+    held, expected = r[run_of_row == 2], at_kept[run_of_row == 2]
+    scale = np.sqrt(np.mean(expected**2))
+    assert scale > 100.0
+    assert np.sqrt(np.mean((held - expected) ** 2)) < 0.02 * scale

@@ -642,15 +642,16 @@ class _Problem:
         rings = "base_compliance" in free.causes or start.effects.base_mass_kg != 0.0
         self.jac_dt = MAX_DT_S if rings else JAC_MAX_DT_S
         self._short: list[FitRun] | None = None
+        # the residual's rows the problem fits (None: every row); the runs are simulated whole
+        self.rows: np.ndarray | None = None
 
     def model(self, theta: np.ndarray) -> Model:
         return build(self.start, self.free, theta, self.specs)
 
     def res_at(self, theta: np.ndarray, per_cycle: bool, max_dt_s: float = MAX_DT_S) -> np.ndarray:
         self.nfev += 1
-        return residuals(
-            self.runs, self.model(theta), self.noise_m, self.every, per_cycle, max_dt_s
-        )
+        r = residuals(self.runs, self.model(theta), self.noise_m, self.every, per_cycle, max_dt_s)
+        return r if self.rows is None else r[self.rows]
 
     def short_runs(self) -> list[FitRun]:
         """The runs cut to their first START_RANK_PERIODS periods (runs without a sawtooth, and
@@ -672,9 +673,8 @@ class _Problem:
 
         def one(th: np.ndarray) -> np.ndarray:
             m = self.model(th)
-            return residuals(
-                self.runs, m, self.noise_m, self.every, per_cycle, max_dt_s, pooled=False
-            )
+            r = residuals(self.runs, m, self.noise_m, self.every, per_cycle, max_dt_s, pooled=False)
+            return r if self.rows is None else r[self.rows]
 
         return list(_sim_pool().map(one, thetas))
 
@@ -877,6 +877,28 @@ def fit_from(
     return _Problem(runs, nominal, start, free, noise_m).second_stage(
         theta, second_stage_nfev(max_nfev)
     )
+
+
+@with_one_blas_thread
+def refit_on_rows(
+    runs: list[FitRun],
+    nominal: ActuatorParams,
+    start: Model,
+    free: Free,
+    noise_m: float,
+    rows: np.ndarray,
+    max_nfev: int,
+) -> np.ndarray:
+    """start polished (fit's second stage from its own point, as fit(polish=True)) on the
+    residual's rows alone, the runs still simulated whole and in order (a model that carries heat
+    from run to run keeps its history); returns the residual on every row at the point reached,
+    every run at strides(runs) as linearize_column has it."""
+    p = _Problem(runs, nominal, start, free, noise_m)
+    p.jac_dt = MAX_DT_S
+    p.rows = rows
+    theta = p.solve(p.theta0, False, max_nfev, 1e-5).x
+    p.rows = None
+    return p.res_at(theta, False)
 
 
 @dataclass

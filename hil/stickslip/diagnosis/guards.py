@@ -44,6 +44,7 @@ CV_MIN_DROP = 10.0
 # the LS law, a "hysteresis" won 4 of 7 folds but made the 100 Hz and both reduced-amplitude
 # families 2.2-3.1 x worse, exactly where a real piezo hysteresis shows most).
 CV_MAX_HARM = 1.5
+# A family harmed to first order is refitted in full before it counts (Session.cross_validate).
 # One harmed family is excused when the term predicts every other family clearly better (by the
 # same factor): a first-order refit without a family that holds much of the data (the long run's
 # frequency) can miss for both models, and one such fold outvoting six clear gains is the refit
@@ -90,6 +91,15 @@ class FoldResult:
     rss_without: float  # summed squared error on the family left out, in noise variances
     rss_with: float
     n: int
+    refitted: bool = False  # both models refitted in full without it (harmed to first order)
+
+    @property
+    def harmed(self) -> bool:
+        """Does the model with the cause predict the family clearly worse (CV_MAX_HARM)?"""
+        return (
+            self.rss_with > CV_MAX_HARM * self.rss_without
+            and self.rss_with - self.rss_without > self.n
+        )
 
 
 @dataclass
@@ -177,6 +187,7 @@ class Verdict:
                     "left_out": f.family,
                     "mse_without": f.rss_without / f.n,
                     "mse_with": f.rss_with / f.n,
+                    "refit": "full" if f.refitted else "first_order",
                 }
                 for f in self.folds
             ],
@@ -221,11 +232,7 @@ def share_removed(mse_without: float, mse_with: float) -> float:
 def judge_cv(v: Verdict) -> None:
     if not v.folds:
         return
-    harmed = [
-        f
-        for f in v.folds
-        if f.rss_with > CV_MAX_HARM * f.rss_without and f.rss_with - f.rss_without > f.n
-    ]
+    harmed = [f for f in v.folds if f.harmed]
     excused = len(harmed) == 1 and all(
         CV_MAX_HARM * f.rss_with <= f.rss_without for f in v.folds if f is not harmed[0]
     )
