@@ -294,42 +294,43 @@ def test_a_prediction_made_once_is_kept_and_only_for_what_decides_it(monkeypatch
 def test_a_family_harmed_to_first_order_is_judged_by_full_refits(monkeypatch):
     """Session.cross_validate: a family the cause harms to first order (here 30 x the model
     without it) is refitted in full without that family, both models, and those refits decide
-    (both miss it alike: not harmed, and the cause that wins every other family carries over).
-    Families the first order does not harm are not refitted."""
+    (both miss it alike: not harmed, and the cause, which wins three of the other four, carries
+    over). Each harmed family gets its own refits; families not harmed get none."""
     from concurrent.futures import Future
 
     from stickslip.diagnosis import session as SE
-    from stickslip.diagnosis.fit import Evaluation, refit_on_rows
+    from stickslip.diagnosis.fit import Evaluation, refit_without
     from stickslip.diagnosis.result import Candidate
 
-    # five one-run families of ten rows: the cause wins three, loses a little on one (so that
-    # the one harmed family is not excused) and harms family 2 (c)
-    rows = np.repeat(np.arange(5), 10)
+    # six one-run families of ten rows: the cause wins three, loses a little on one (so that a
+    # harmed family is not excused) and harms families c and f
+    rows = np.repeat(np.arange(6), 10)
+    monkeypatch.setattr(SE, "run_of_row", lambda runs: rows)
     first_order = {  # each model's residual; no free parameter, so a fold predicts it as is
-        "without": np.select([rows == 2, rows == 3], [1.0, 3.0], 10.0),
-        "with": np.select([rows == 2, rows == 3], [30.0, 3.2], 1.0),
+        "without": np.select([rows == 2, rows == 3, rows == 5], [1.0, 3.0, 2.0], 10.0),
+        "with": np.select([rows == 2, rows == 3, rows == 5], [30.0, 3.2, 50.0], 1.0),
     }
-    full = {"without": np.full(50, 40.0), "with": np.full(50, 41.0)}  # both miss family c
+    # refitted in full without family k, each model misses it by its own figure (both alike)
+    full = {"without": {2: 40.0, 5: 60.0}, "with": {2: 41.0, 5: 59.0}}
     asked = []
 
     class Ex:
-        def submit(self, fn, runs, nominal, model, free, noise_m, keep, nfev):
-            assert fn is refit_on_rows
+        def submit(self, fn, runs, nominal, model, free, noise_m, held, nfev):
+            assert fn is refit_without
             side = "with" if model.causes else "without"
-            asked.append((side, keep.copy()))
+            asked.append((side, tuple(held)))
             fu: Future = Future()
-            fu.set_result(full[side])
+            fu.set_result(np.full(60, full[side][held[0]]))
             return fu
 
     def cand(causes):
         m = Model(ActuatorParams.table1(), Effects(load_n=0.01 if causes else 0.0), causes=causes)
-        return Candidate(
-            FitResult(Free((), causes), m, m.values(), 0.0, 0), Evaluation(0, 0, 1, 1), 0.0
-        )
+        f = FitResult(Free((), causes), m, m.values(), 0.0, 0)
+        return Candidate(f, Evaluation(0, 0, 1, 1), 0.0)
 
     without, with_ = cand(()), cand(("external_load",))
     s = Session(ActuatorParams.table1(), [], [], [], 2e-9, Ex(), lambda _: None)
-    s.families = [(name, [i]) for i, name in enumerate("abcde")]
+    s.families = [(name, [i]) for i, name in enumerate("abcdef")]
     done: Future = Future()
     done.set_result(None)
     s.linearization = lambda c: [done]  # type: ignore[method-assign]
@@ -337,26 +338,35 @@ def test_a_family_harmed_to_first_order_is_judged_by_full_refits(monkeypatch):
         SE,
         "assemble",
         lambda runs, nominal, model, free, cols: Linearization(
-            first_order["with" if model.causes else "without"], np.zeros((50, 0)), rows
+            first_order["with" if model.causes else "without"], np.zeros((60, 0)), rows
         ),
     )
     v = Verdict()
     s.cross_validate(v, without, with_)
 
-    assert [f.refitted for f in v.folds] == [False, False, True, False, False]
-    assert sorted(side for side, _ in asked) == ["with", "without"]
-    assert all(np.array_equal(keep, rows != 2) for _, keep in asked)
-    assert (v.folds[2].rss_without, v.folds[2].rss_with) == (40.0**2 * 10, 41.0**2 * 10)
+    assert [f.refitted for f in v.folds] == [False, False, True, False, False, True]
+    assert sorted(asked) == [("with", (2,)), ("with", (5,)), ("without", (2,)), ("without", (5,))]
+    c, f = v.folds[2], v.folds[5]
+    assert (c.rss_without, c.rss_with) == (40.0**2 * 10, 41.0**2 * 10)
+    assert (f.rss_without, f.rss_with) == (60.0**2 * 10, 59.0**2 * 10)
     assert v.confirmed, v.reasons
-    # judged to first order, family c would have refused the cause
-    first = _judged(
-        [(f.family, f.rss_without, f.rss_with, f.n) for f in v.folds if f.family != "c"]
-        + [("c", 10.0, 9000.0, 10)]
+    # judged to first order, families c and f would have refused the cause
+    first = Verdict(
+        folds=[
+            FoldResult(
+                name,
+                float(np.sum(first_order["without"][rows == i] ** 2)),
+                float(np.sum(first_order["with"][rows == i] ** 2)),
+                10,
+            )
+            for i, name in enumerate("abcdef")
+        ]
     )
+    judge_cv(first)
     assert not first.confirmed
-    # a cause that loses the other families' vote is refused without refits: even winning the
-    # harmed family would leave it 1 of 5
-    first_order["with"] = np.select([rows == 2, rows == 3], [30.0, 3.2], 10.5)
+    # a cause that loses the other families' vote is refused without refits: even winning both
+    # harmed families would leave it 2 of 6
+    first_order["with"] = np.select([rows == 2, rows == 3, rows == 5], [30.0, 3.2, 50.0], 10.5)
     asked.clear()
     lost = Verdict()
     s.cross_validate(lost, without, with_)

@@ -280,6 +280,31 @@ def test_a_hysteresis_whose_size_depends_on_the_law_is_the_law_s_misfit(monkeypa
     assert "0.04 under lugre" in PL._law_dependence(s, chosen, "piezo_hysteresis")
 
 
+def test_a_base_s_frequency_is_not_read_again_from_the_chosen_one(monkeypatch):
+    """A base compliance's frequency that differs under another law is not fitted again from
+    the chosen model's (a fit started at a frequency stays in its basin: pipeline.
+    LAW_SIZE_RESTARTED); the grid's fits decide (false base on GMS creep 133: 8.31 kHz under
+    GMS, 15.1 kHz under LS)."""
+    freqs = {"lugre": 10.1e3, "gms": 15.1e3}
+    grids = []
+
+    def first(train, nominal, m, free, noise, nfev, grid=True):
+        grids.append(grid)
+        e = Effects(base_mass_kg=0.05, base_freq_hz=freqs[m.law], base_damping_ratio=0.05)
+        return Model(m.params, e, law=m.law, causes=free.causes), 1.0
+
+    monkeypatch.setattr(PL, "first_stage_model", first)
+    s, _, _ = _session()
+    s.ex = _Now()
+    _calibrated(s)
+    e = Effects(base_mass_kg=0.05, base_freq_hz=8.31e3, base_damping_ratio=0.05)
+    m = Model(BENT, e, law="ls", causes=("base_compliance",))
+    f = FitResult(Free(("normal_force_n",), ("base_compliance",)), m, m.values(), 0.0, 0)
+    chosen = Candidate(f, Evaluation(120e-9, 0, 3.6e6, 1000), 0.0)
+    assert "base_freq_hz" in PL._law_dependence(s, chosen, "base_compliance", PL.LAW_SPREAD_TIGHT)
+    assert grids == [True, True]
+
+
 def test_a_strong_first_cause_that_fails_only_the_left_out_families_is_judged_under_each_other_law(
     monkeypatch,
 ):

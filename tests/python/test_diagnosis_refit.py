@@ -181,37 +181,71 @@ def test_a_polish_differentiates_at_the_models_own_step(monkeypatch):
     assert F.JAC_MAX_DT_S > F.MAX_DT_S  # the test would not tell the two apart otherwise
 
 
-def test_a_refit_on_rows_fits_those_rows_alone_and_predicts_the_others():
-    """refit_on_rows (the cross-validation's full refit without a family) fits the kept rows
-    only: on runs whose first two were made with a 0.1 N load and the third with -0.1 N, it
-    ends at 0.1 N from 0.01 N, as if the third run were not there, and returns that model's
-    residual on every row (the third run's is what the guard reads)."""
+def _load_runs(order: tuple[int, ...]) -> list:
     from pathlib import Path
 
     from stickslip.dataset import load
 
     root = Path(__file__).resolve().parents[2]
     every_run = F.prepare_all(load(root / "examples" / "hidden-effect").runs)
-    runs = [every_run[i] for i in (2, 3, 0)]  # 100 Hz both ways, then 500 Hz forward
+    return [every_run[i] for i in order]
+
+
+def _made_by(runs: list, models: list[Model]) -> list:
+    """The runs with their positions replaced by models' predictions (one model a run), made
+    one after another as the diagnosis simulates them (a model with heat carries it on)."""
+    out = []
+    for r, m in zip(runs, models):
+        heat = F.predict_all(runs[: len(out) + 1], m, pooled=False)[-1]
+        out.append(replace(r, x_m=np.array(heat)))
+    return out
+
+
+def test_a_refit_without_runs_fits_the_others_alone_and_predicts_them():
+    """refit_without (the cross-validation's full refit without a family) fits the kept runs
+    only: on runs whose first two were made with a 0.1 N load and the third with -0.1 N, it
+    ends at 0.1 N from 0.01 N, as if the third run were not there, and returns that model's
+    residual on every run's rows (the third run's is what the guard reads)."""
+    runs = _load_runs((2, 3, 0))  # 100 Hz both ways, then 500 Hz forward
     free = Free((), ("external_load",))
     loaded = [Model(NOMINAL, Effects(load_n=f), causes=("external_load",)) for f in (0.1, -0.1)]
-    made = [F.predict_all([r], loaded[i == 2], pooled=False)[0] for i, r in enumerate(runs)]
-    runs = [replace(r, x_m=np.array(x)) for r, x in zip(runs, made)]
-    every = F.strides(runs)
-    run_of_row = np.concatenate(
-        [np.full(len(r.x_m[::k]), i) for i, (r, k) in enumerate(zip(runs, every))]
-    )
+    runs = _made_by(runs, [loaded[0], loaded[0], loaded[1]])
+    rows = F.run_of_row(runs)
     start = replace(loaded[0], effects=Effects(load_n=0.01))
     noise_m = 2e-9
 
-    r = F.refit_on_rows(runs, NOMINAL, start, free, noise_m, run_of_row != 2, 10)
+    r = F.refit_without(runs, NOMINAL, start, free, noise_m, [2], 10)
 
-    assert r.shape == run_of_row.shape
-    kept = r[run_of_row != 2]
+    assert r.shape == rows.shape
+    kept = r[rows != 2]
     assert np.sqrt(np.mean(kept**2)) < 0.05  # the two runs' own load, to a twentieth of the noise
     # the third run predicted by the kept runs' model, not pulled toward its own load
-    at_kept = F.residuals(runs, loaded[0], noise_m, every)
-    held, expected = r[run_of_row == 2], at_kept[run_of_row == 2]
+    at_kept = F.residuals(runs, loaded[0], noise_m, F.strides(runs))
+    held, expected = r[rows == 2], at_kept[rows == 2]
     scale = np.sqrt(np.mean(expected**2))
     assert scale > 100.0
     assert np.sqrt(np.mean((held - expected) ** 2)) < 0.02 * scale
+
+
+def test_a_refit_without_a_run_keeps_the_heat_it_leaves():
+    """With a thermal drift every run recorded before a kept one is simulated, the held one
+    too (the chain follows the recorded order, not the list): data made with the drift (tau 10 s:
+    each run heats the next), the middle run held, refitted from a coefficient 3 x off: the model
+    ends at the data's own, and its residual on every row, the held run's too, is the data's
+    model's."""
+    runs = _load_runs((0, 1, 8))  # 500 Hz both ways, 500 Hz at 50 V
+    free = Free((), ("thermal_drift",))
+    hot = Model(
+        NOMINAL, Effects(thermal_coeff_per_j=30.0, thermal_tau_s=10.0), causes=("thermal_drift",)
+    )
+    runs = _made_by(runs, [hot] * 3)
+    rows = F.run_of_row(runs)
+    truth = F.residuals(runs, hot, 2e-9, F.strides(runs))
+    start = replace(hot, effects=Effects(thermal_coeff_per_j=10.0, thermal_tau_s=10.0))
+    cold = F.residuals(runs, start, 2e-9, F.strides(runs))
+    assert np.sqrt(np.mean((cold - truth)[rows == 2] ** 2)) > 100.0  # the start is far off
+
+    r = F.refit_without(runs, NOMINAL, start, free, 2e-9, [1], 10)
+
+    assert r.shape == rows.shape
+    assert np.sqrt(np.mean((r - truth) ** 2)) < 0.05

@@ -453,6 +453,13 @@ def strides(runs: list[FitRun]) -> list[int]:
     return [max(1, len(r.x_m) // MAX_POINTS_PER_RUN) for r in runs]
 
 
+def run_of_row(runs: list[FitRun]) -> np.ndarray:
+    """The index of the run each row of residuals(runs, ...) belongs to (at strides(runs))."""
+    return np.concatenate(
+        [np.full(len(r.x_m[::k]), i) for i, (r, k) in enumerate(zip(runs, strides(runs)))]
+    )
+
+
 def specs_for(nominal: ActuatorParams, free: Free) -> list[Param]:
     specs = []
     at_nominal = Model(nominal)
@@ -642,16 +649,15 @@ class _Problem:
         rings = "base_compliance" in free.causes or start.effects.base_mass_kg != 0.0
         self.jac_dt = MAX_DT_S if rings else JAC_MAX_DT_S
         self._short: list[FitRun] | None = None
-        # the residual's rows the problem fits (None: every row); the runs are simulated whole
-        self.rows: np.ndarray | None = None
 
     def model(self, theta: np.ndarray) -> Model:
         return build(self.start, self.free, theta, self.specs)
 
     def res_at(self, theta: np.ndarray, per_cycle: bool, max_dt_s: float = MAX_DT_S) -> np.ndarray:
         self.nfev += 1
-        r = residuals(self.runs, self.model(theta), self.noise_m, self.every, per_cycle, max_dt_s)
-        return r if self.rows is None else r[self.rows]
+        return residuals(
+            self.runs, self.model(theta), self.noise_m, self.every, per_cycle, max_dt_s
+        )
 
     def short_runs(self) -> list[FitRun]:
         """The runs cut to their first START_RANK_PERIODS periods (runs without a sawtooth, and
@@ -673,8 +679,9 @@ class _Problem:
 
         def one(th: np.ndarray) -> np.ndarray:
             m = self.model(th)
-            r = residuals(self.runs, m, self.noise_m, self.every, per_cycle, max_dt_s, pooled=False)
-            return r if self.rows is None else r[self.rows]
+            return residuals(
+                self.runs, m, self.noise_m, self.every, per_cycle, max_dt_s, pooled=False
+            )
 
         return list(_sim_pool().map(one, thetas))
 
@@ -880,25 +887,25 @@ def fit_from(
 
 
 @with_one_blas_thread
-def refit_on_rows(
+def refit_without(
     runs: list[FitRun],
     nominal: ActuatorParams,
     start: Model,
     free: Free,
     noise_m: float,
-    rows: np.ndarray,
+    held: list[int],
     max_nfev: int,
 ) -> np.ndarray:
-    """start polished (fit's second stage from its own point, as fit(polish=True)) on the
-    residual's rows alone, the runs still simulated whole and in order (a model that carries heat
-    from run to run keeps its history); returns the residual on every row at the point reached,
-    every run at strides(runs) as linearize_column has it."""
-    p = _Problem(runs, nominal, start, free, noise_m)
+    """start polished without the held runs (fit's second stage from its own point, as
+    fit(polish=True)), and its residual on every run's rows at the point reached
+    (residuals(runs, ...) at strides(runs); run_of_row(runs) says whose). A model that carries
+    heat still simulates the held runs recorded before a kept one (_predict_chain follows the
+    recorded order), so each kept run starts with the heat the data's did."""
+    kept = [r for i, r in enumerate(runs) if i not in held]
+    p = _Problem(kept, nominal, start, free, noise_m)
     p.jac_dt = MAX_DT_S
-    p.rows = rows
-    theta = p.solve(p.theta0, False, max_nfev, 1e-5).x
-    p.rows = None
-    return p.res_at(theta, False)
+    model = p.model(p.solve(p.theta0, False, max_nfev, 1e-5).x)
+    return residuals(runs, model, noise_m, strides(runs))
 
 
 @dataclass

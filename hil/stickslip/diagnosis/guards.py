@@ -28,6 +28,7 @@ from .fit import (
     Model,
     build,
     residuals,
+    run_of_row,
     specs_for,
     strides,
     theta_of,
@@ -45,10 +46,11 @@ CV_MIN_DROP = 10.0
 # families 2.2-3.1 x worse, exactly where a real piezo hysteresis shows most).
 CV_MAX_HARM = 1.5
 # A family harmed to first order is refitted in full before it counts (Session.cross_validate).
-# One harmed family is excused when the term predicts every other family clearly better (by the
-# same factor): a first-order refit without a family that holds much of the data (the long run's
-# frequency) can miss for both models, and one such fold outvoting six clear gains is the refit
-# failing, not the effect (under LS on LuGre data, a true load was 2.4-550 x better on six
+# One family still harmed then is excused when the term predicts every other family clearly
+# better (by the same factor): a refit without a family that holds much of the data (the long
+# run's frequency) can miss for both models, and one such fold outvoting six clear gains is the
+# refit failing, not the effect (measured with first-order refits, before the full ones: under
+# LS on LuGre data, a true load was 2.4-550 x better on six
 # families and 1.7 x worse at 1000 Hz; a true hysteresis 1.9-28 x better and 1.8 x worse there).
 # A spurious slew limit on miscalibrated clean LuGre data was 2.9 x worse at 50 V and no better
 # at 75 V: not excused. An excused family is left out of the summed error change as well (a true
@@ -139,11 +141,7 @@ def assemble(
     jac = np.zeros((len(r0), len(specs)))
     for i, c in enumerate(cols[1:]):
         jac[:, i] = (c - r0) / _column_step(theta, specs, i)
-    every = strides(runs)
-    run_of_row = np.concatenate(
-        [np.full(len(r.x_m[::k]), i) for i, (r, k) in enumerate(zip(runs, every))]
-    )
-    return Linearization(r0, jac, run_of_row)
+    return Linearization(r0, jac, run_of_row(runs))
 
 
 def fold_rss(a: Linearization, held: list[int]) -> tuple[float, int]:
