@@ -232,19 +232,12 @@ def test_a_hysteresis_whose_size_depends_on_the_law_is_the_law_s_misfit(monkeypa
     # clean LS-b data of the independent generator (seed 102, the corrected core): a hysteresis of
     # alpha 0.39 under LS came out 0.04 under LuGre and 0.24 under GMS; a true one 0.15-0.20
     alphas = {"lugre": 0.04, "gms": 0.24}
-    # a fit started at the chosen model's size (not from the grid): its size and cost per law
-    restarted: dict[str, tuple[float, float]] = {}
     fitted = []
 
-    def first(train, nominal, m, free, noise, nfev, grid=True):
-        if grid:
-            fitted.append((m.law, m.params.normal_force_n, free.causes))
-            alpha, cost = alphas[m.law], 1.0
-        else:
-            assert m.effects.hysteresis_alpha == 0.39  # from the chosen model's size
-            alpha, cost = restarted.get(m.law, (alphas[m.law], 2.0))
-        e = Effects(hysteresis_alpha=alpha, hysteresis_width_m=1e-6)
-        return Model(m.params, e, law=m.law, causes=free.causes), cost
+    def first(train, nominal, m, free, noise, nfev):
+        fitted.append((m.law, m.params.normal_force_n, free.causes))
+        e = Effects(hysteresis_alpha=alphas[m.law], hysteresis_width_m=1e-6)
+        return Model(m.params, e, law=m.law, causes=free.causes), 1.0
 
     monkeypatch.setattr(PL, "first_stage_model", first)
     s, _, _ = _session()
@@ -269,40 +262,6 @@ def test_a_hysteresis_whose_size_depends_on_the_law_is_the_law_s_misfit(monkeypa
     fitted.clear()  # a cause the law's presliding cannot make: not checked, nothing fitted
     assert PL._law_dependence(s, chosen, "external_load") == ""
     assert fitted == []
-    # the grid's start led LuGre's fit into another basin: started at the chosen model's size it
-    # ends cheaper, at 0.3, and that size counts (independent hysteresis on GMS, seed 132)
-    alphas.update(lugre=0.04, gms=0.3)
-    restarted["lugre"] = (0.3, 0.5)
-    s.law_spread.clear()
-    assert PL._law_dependence(s, chosen, "piezo_hysteresis") == ""
-    restarted["lugre"] = (0.3, 1.5)  # ... but not when it ends dearer than the grid's fit
-    s.law_spread.clear()
-    assert "0.04 under lugre" in PL._law_dependence(s, chosen, "piezo_hysteresis")
-
-
-def test_a_base_s_frequency_is_not_read_again_from_the_chosen_one(monkeypatch):
-    """A base compliance's frequency that differs under another law is not fitted again from
-    the chosen model's (a fit started at a frequency stays in its basin: pipeline.
-    LAW_SIZE_RESTARTED); the grid's fits decide (false base on GMS creep 133: 8.31 kHz under
-    GMS, 15.1 kHz under LS)."""
-    freqs = {"lugre": 10.1e3, "gms": 15.1e3}
-    grids = []
-
-    def first(train, nominal, m, free, noise, nfev, grid=True):
-        grids.append(grid)
-        e = Effects(base_mass_kg=0.05, base_freq_hz=freqs[m.law], base_damping_ratio=0.05)
-        return Model(m.params, e, law=m.law, causes=free.causes), 1.0
-
-    monkeypatch.setattr(PL, "first_stage_model", first)
-    s, _, _ = _session()
-    s.ex = _Now()
-    _calibrated(s)
-    e = Effects(base_mass_kg=0.05, base_freq_hz=8.31e3, base_damping_ratio=0.05)
-    m = Model(BENT, e, law="ls", causes=("base_compliance",))
-    f = FitResult(Free(("normal_force_n",), ("base_compliance",)), m, m.values(), 0.0, 0)
-    chosen = Candidate(f, Evaluation(120e-9, 0, 3.6e6, 1000), 0.0)
-    assert "base_freq_hz" in PL._law_dependence(s, chosen, "base_compliance", PL.LAW_SPREAD_TIGHT)
-    assert grids == [True, True]
 
 
 def test_a_strong_first_cause_that_fails_only_the_left_out_families_is_judged_under_each_other_law(
@@ -391,9 +350,8 @@ def test_a_first_cause_whose_size_depends_on_the_law_is_refused_before_the_law_i
     alphas = {"lugre": 0.04, "gms": 1e-9}
     fitted, rechosen = [], []
 
-    def first(train, nominal, m, free, noise, nfev, grid=True):
-        if grid:  # a fit from the chosen model's size ends where the grid's does, at its cost
-            fitted.append(m.law)
+    def first(train, nominal, m, free, noise, nfev):
+        fitted.append(m.law)
         e = Effects(hysteresis_alpha=alphas[m.law], hysteresis_width_m=1e-6)
         return Model(m.params, e, law=m.law, causes=free.causes), 1.0
 
@@ -438,9 +396,8 @@ def test_a_first_cause_of_the_law_s_own_kind_that_keeps_its_size_under_every_law
     alphas = {"lugre": 0.13, "gms": 0.12}
     fitted = []
 
-    def first(train, nominal, m, free, noise, nfev, grid=True):
-        if grid:  # a fit from the chosen model's size ends where the grid's does, at its cost
-            fitted.append(m.law)
+    def first(train, nominal, m, free, noise, nfev):
+        fitted.append(m.law)
         e = Effects(hysteresis_alpha=alphas[m.law], hysteresis_width_m=1e-6)
         return Model(m.params, e, law=m.law, causes=free.causes), 1.0
 

@@ -18,7 +18,6 @@ from .. import dataset as D
 from ..model import ActuatorParams
 from .catalog import (
     BASE_LAW,
-    CAUSE_PARAMS,
     CAUSES,
     FRICTION_LAW,
     LAWS,
@@ -105,18 +104,6 @@ LAW_SPREAD_MAX = 2.0
 # true hysteresis of seed 126 (76 %) spread 1.03 x, a false one on clean GMS seed 126 (60 %)
 # 2.08 x; every true hysteresis of seeds 100-130 1.03-1.37 x (docs/diagnosis.md, step 10).
 LAW_SPREAD_TIGHT = 1.5
-# A LAW_SIZE_RESTARTED size more than LAW_SPREAD_TIGHT x from the chosen model's is fitted once more
-# under that law, started at the chosen model's size: the grid's best start can lead the fit into
-# another basin (independent hysteresis on a GMS contact, seed 132: alpha 0.044 under LuGre from
-# the grid, 71 % of LuGre's per-cycle cost removed; 0.15 and 83 % started at GMS's 0.22, as under
-# LS from the grid). A hysteresis' amplitude moves to its own optimum from there (0.22 -> 0.15).
-# A base's frequency is not restarted: its cost is multimodal (the drive's harmonics), and a fit
-# started at a frequency stays in that frequency's basin (within 6 % on the two measured):
-# restarted so, the false base on GMS seed 133 with a creep (8.31 kHz under GMS; 15.1 and 10.1
-# kHz from the grid under LS and LuGre) came out at 7.89 kHz under LS, passed and was named
-# first, as did the true one of seed 133 (4.09 kHz; 11.9 kHz under LuGre from the grid, 4.06
-# restarted).
-LAW_SIZE_RESTARTED = ("piezo_hysteresis",)
 PHASE_BINS = 10  # residual summary: bins of the phase within the cycle
 
 
@@ -593,8 +580,7 @@ def _law_dependence(
 ) -> str:
     """Why a LAW_SENSITIVE cause of chosen reads as the law's misfit rather than the actuator's
     property ("" when it does not): fitted from each other law's calibration (the first stage,
-    from the catalog's start and grid; for LAW_SIZE_RESTARTED also from chosen's size, the
-    cheaper fit counting), its size differs more than limit x from law to law.
+    from the catalog's start and grid), its size differs more than limit x from law to law.
     Fitted once per model and cause (Session.law_spread)."""
     key = (id(chosen), cause)
     if key not in s.law_spread:
@@ -635,44 +621,16 @@ def _law_spread(s: Session, chosen: Candidate, cause: str) -> tuple[float, str]:
         )
         for c in others
     ]
-    own = chosen.fit.values[f"{cause}.{name}"]
-    sizes = {chosen.law: own}
-    firsts = {c.law: fu.result() for c, fu in zip(others, futs)}
-    # a size that disagrees is fitted again from the chosen model's (LAW_SIZE_RESTARTED), and the
-    # fit with the lower per-cycle cost gives the law's size
-    at_own = {q.name: getattr(chosen.fit.model.effects, q.name) for q in CAUSE_PARAMS[cause]}
-    again = {
-        c.law: s.ex.submit(
-            first_stage_model,
-            s.train,
-            s.nominal,
-            replace(c.fit.model, effects=replace(c.fit.model.effects, **at_own)),
-            Free(s.free_base[c.law], (cause,)),
-            s.noise_m,
-            FIT_NFEV,
-            False,
-        )
-        for c in others
-        if cause in LAW_SIZE_RESTARTED
-        and _ratio(firsts[c.law][0].values()[f"{cause}.{name}"], own) > LAW_SPREAD_TIGHT
-    }
-    for c in others:
-        m, cost = firsts[c.law]
-        if c.law in again and again[c.law].result()[1] < cost:
-            m = again[c.law].result()[0]
-        sizes[c.law] = m.values()[f"{cause}.{name}"]
+    sizes = {chosen.law: chosen.fit.values[f"{cause}.{name}"]}
+    for c, fu in zip(others, futs):
+        sizes[c.law] = fu.result()[0].values()[f"{cause}.{name}"]
     each = ", ".join(f"{v:.3g} under {law}" for law, v in sizes.items())
     s.say(f"{cause}'s {name}: {each}")
     mags = [abs(v) for v in sizes.values()]
-    return _ratio(max(mags), min(mags)), each
-
-
-def _ratio(a: float, b: float) -> float:
-    """The larger magnitude over the smaller (inf when one is 0 and the other is not)."""
-    lo, hi = sorted((abs(a), abs(b)))
+    lo, hi = min(mags), max(mags)
     if lo > 0.0:
-        return hi / lo
-    return 1.0 if hi == 0.0 else math.inf
+        return hi / lo, each
+    return (1.0 if hi == 0.0 else math.inf), each
 
 
 def _final_weakness(
