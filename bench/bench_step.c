@@ -26,16 +26,10 @@ int main(int argc, char **argv)
         uint32_t steps = 0;
         float sink = 0.0f;
         for (int r = 0; r < repeats; ++r) {
-            ss_waveform_state_f32_t ws;
-            ss_actuator_state_f32_t st;
-            ss_waveform_init_f32(&w, cfg.dt_s, &ws);
-            ss_actuator_init_f32(&cfg, &st, 0.0f);
             steps = (uint32_t)((double)cycles / 500.0 / (double)cfg.dt_s + 0.5);
-            uint32_t rows = 0;
-            const double t0 = bench_now_s();
-            ss_actuator_run_f32(&cfg, &st, &w, &ws, steps, 1u, NULL, &rows);
-            t[r] = bench_now_s() - t0;
-            sink += ss_position_value_f32(st.x_slider);
+            float x = 0.0f;
+            t[r] = bench_time_run_f32(&cfg, &w, steps, &x);
+            sink += x;
         }
         qsort(t, (size_t)repeats, sizeof(double), bench_cmp_double);
         const double med = t[repeats / 2];

@@ -36,15 +36,9 @@ int main(int argc, char **argv)
         const uint32_t steps = (uint32_t)lround((double)cycles / (double)hz[q] / (double)cfg.dt_s);
         double x_end = 0.0;
         for (int r = 0; r < repeats; ++r) {
-            ss_waveform_state_f32_t ws;
-            ss_actuator_state_f32_t st;
-            ss_waveform_init_f32(&w, cfg.dt_s, &ws);
-            ss_actuator_init_f32(&cfg, &st, 0.0f);
-            uint32_t rows = 0;
-            const double t0 = bench_now_s();
-            ss_actuator_run_f32(&cfg, &st, &w, &ws, steps, 1u, NULL, &rows);
-            t[r] = bench_now_s() - t0;
-            x_end = (double)ss_position_value_f32(st.x_slider);
+            float x = 0.0f;
+            t[r] = bench_time_run_f32(&cfg, &w, steps, &x);
+            x_end = (double)x;
         }
         qsort(t, (size_t)repeats, sizeof(double), bench_cmp_double);
         printf("{\"hz\": %.0f, \"fall_us\": %.0f, \"steps\": %u, \"repeats\": %d, \"ns_per_step\": %.4g, "
