@@ -305,7 +305,6 @@ def test_a_family_harmed_to_first_order_is_judged_by_full_refits(monkeypatch):
     # six one-run families of ten rows: the cause wins three, loses a little on one (so that a
     # harmed family is not excused) and harms families c and f
     rows = np.repeat(np.arange(6), 10)
-    monkeypatch.setattr(SE, "run_of_row", lambda runs: rows)
     first_order = {  # each model's residual; no free parameter, so a fold predicts it as is
         "without": np.select([rows == 2, rows == 3, rows == 5], [1.0, 3.0, 2.0], 10.0),
         "with": np.select([rows == 2, rows == 3, rows == 5], [30.0, 3.2, 50.0], 1.0),

@@ -36,7 +36,6 @@ from .fit import (
     fit_from,
     predict_all,
     refit_without,
-    run_of_row,
 )
 from .guards import (
     FINAL_SHARE,
@@ -457,13 +456,12 @@ class Session:
             names = ", ".join(folds[i].family for i in harmed)
             what = "family" if len(harmed) == 1 else "families, one at a time"
             self.say(f"refitting in full without the {names} {what}: harmed to first order")
-            rows = run_of_row(self.runs)
             refits = {
                 i: [self.fold_refit(c, self.families[i][1]) for c in (without, with_)]
                 for i in harmed
             }
             for i, (fa, fb) in refits.items():
-                held = np.isin(rows, self.families[i][1])
+                held = np.isin(a.run_of_row, self.families[i][1])
                 ra, rb = (float(np.sum(fu.result()[held] ** 2)) for fu in (fa, fb))
                 folds[i] = FoldResult(folds[i].family, ra, rb, folds[i].n, refitted=True)
         v.folds.extend(folds)
