@@ -449,7 +449,7 @@ class Session:
         # base compliance on a GMS contact (independent seed 133, 4.07 kHz, its fourth harmonic
         # on the 1000 Hz drive) came out 52 x worse at 1000 Hz to first order; refitted in full,
         # the model without it missed that family 46 x worse than its first order said, and the
-        # two came out 1.01 x apart.
+        # two came out 1.00 x apart (bench/cv_full_refit.py).
         harmed = [i for i, f in enumerate(folds) if f.harmed]
         wins = sum(f.rss_with < f.rss_without for f in folds if not f.harmed)
         if harmed and 2 * (wins + len(harmed)) > len(folds):
