@@ -264,6 +264,36 @@ def test_a_hysteresis_whose_size_depends_on_the_law_is_the_law_s_misfit(monkeypa
     assert fitted == []
 
 
+def test_a_base_s_law_test_fits_it_from_each_law_s_nominal_parameters(monkeypatch):
+    # independent GMS seed 133, a true base at 4.07 kHz: from LuGre's calibration, which had taken
+    # up the missing base with the contact's and the stack's parameters, the base stopped at 11.9
+    # kHz and was refused; from LuGre's nominal parameters it reached 4.05 kHz at a first-stage
+    # cost 7.2 x lower, as the screen fits a first base (catalog.FIT_FROM_NOMINAL)
+    freqs = {"lugre": 4.05e3, "gms": 4.10e3}
+    fitted = []
+
+    def first(train, nominal, m, free, noise, nfev):
+        fitted.append((m.law, m.params.normal_force_n, m.params.piezo_damping_kg_per_s))
+        e = Effects(base_mass_kg=0.048, base_freq_hz=freqs[m.law], base_damping_ratio=0.05)
+        return Model(m.params, e, law=m.law, causes=free.causes), 1.0
+
+    monkeypatch.setattr(PL, "first_stage_model", first)
+    s, _, _ = _session()
+    s.ex = _Now()
+    _calibrated(s)
+    e = Effects(base_mass_kg=0.049, base_freq_hz=4.09e3, base_damping_ratio=0.04)
+    m = Model(BENT, e, law="ls", causes=("base_compliance",))
+    f = FitResult(Free(("normal_force_n",), ("base_compliance",)), m, m.values(), 0.0, 0)
+    chosen = Candidate(f, Evaluation(120e-9, 0, 3.6e6, 1000), 0.0)
+    assert PL._law_dependence(s, chosen, "base_compliance") == ""
+    # from each other law's nominal values (BENT's force and damping were the calibration's)
+    at_nominal = (NOMINAL.normal_force_n, NOMINAL.piezo_damping_kg_per_s)
+    assert sorted(fitted) == [("gms", *at_nominal), ("lugre", *at_nominal)]
+    freqs["lugre"] = 11.9e3  # a base the law's misfit made: refused as before
+    s.law_spread.clear()
+    assert "1.19e+04 under lugre" in PL._law_dependence(s, chosen, "base_compliance")
+
+
 def test_a_strong_first_cause_that_fails_only_the_left_out_families_is_judged_under_each_other_law(
     monkeypatch,
 ):
