@@ -264,18 +264,23 @@ def test_a_hysteresis_whose_size_depends_on_the_law_is_the_law_s_misfit(monkeypa
     assert fitted == []
 
 
-def test_a_base_s_law_test_fits_it_from_each_law_s_nominal_parameters(monkeypatch):
+def test_a_base_s_law_test_keeps_the_cheaper_of_its_fits_from_calibration_and_from_nominal(
+    monkeypatch,
+):
     # independent GMS seed 133, a true base at 4.07 kHz: from LuGre's calibration, which had taken
     # up the missing base with the contact's and the stack's parameters, the base stopped at 11.9
     # kHz and was refused; from LuGre's nominal parameters it reached 4.05 kHz at a first-stage
     # cost 7.2 x lower, as the screen fits a first base (catalog.FIT_FROM_NOMINAL)
-    freqs = {"lugre": 4.05e3, "gms": 4.10e3}
+    freq = {("lugre", "cal"): 11.9e3, ("lugre", "nom"): 4.05e3, ("gms", "cal"): 4.1e3}
+    freq[("gms", "nom")] = 13.9e3  # seed 104's GMS from nominal: the costlier start here
+    cost = {("lugre", "cal"): 7.2, ("lugre", "nom"): 1.0, ("gms", "cal"): 1.0, ("gms", "nom"): 3.0}
     fitted = []
 
     def first(train, nominal, m, free, noise, nfev):
-        fitted.append((m.law, m.params.normal_force_n, m.params.piezo_damping_kg_per_s))
-        e = Effects(base_mass_kg=0.048, base_freq_hz=freqs[m.law], base_damping_ratio=0.05)
-        return Model(m.params, e, law=m.law, causes=free.causes), 1.0
+        start = "nom" if m.params.normal_force_n == NOMINAL.normal_force_n else "cal"
+        fitted.append((m.law, start, m.params.piezo_damping_kg_per_s))
+        e = Effects(base_mass_kg=0.048, base_freq_hz=freq[(m.law, start)], base_damping_ratio=0.05)
+        return Model(m.params, e, law=m.law, causes=free.causes), cost[(m.law, start)]
 
     monkeypatch.setattr(PL, "first_stage_model", first)
     s, _, _ = _session()
@@ -285,11 +290,13 @@ def test_a_base_s_law_test_fits_it_from_each_law_s_nominal_parameters(monkeypatc
     m = Model(BENT, e, law="ls", causes=("base_compliance",))
     f = FitResult(Free(("normal_force_n",), ("base_compliance",)), m, m.values(), 0.0, 0)
     chosen = Candidate(f, Evaluation(120e-9, 0, 3.6e6, 1000), 0.0)
-    assert PL._law_dependence(s, chosen, "base_compliance") == ""
-    # from each other law's nominal values (BENT's force and damping were the calibration's)
-    at_nominal = (NOMINAL.normal_force_n, NOMINAL.piezo_damping_kg_per_s)
-    assert sorted(fitted) == [("gms", *at_nominal), ("lugre", *at_nominal)]
-    freqs["lugre"] = 11.9e3  # a base the law's misfit made: refused as before
+    assert PL._law_dependence(s, chosen, "base_compliance") == ""  # 4.05 and 4.1 kHz kept
+    # each other law from its calibration (BENT's damping) and from its nominal values
+    damping = {"cal": BENT.piezo_damping_kg_per_s, "nom": NOMINAL.piezo_damping_kg_per_s}
+    assert sorted(fitted) == sorted(
+        (law, start, damping[start]) for law in ("lugre", "gms") for start in ("cal", "nom")
+    )
+    cost[("lugre", "cal")] = 0.5  # the calibration's basin cheaper: 11.9 kHz kept, refused
     s.law_spread.clear()
     assert "1.19e+04 under lugre" in PL._law_dependence(s, chosen, "base_compliance")
 
