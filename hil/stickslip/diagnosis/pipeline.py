@@ -97,7 +97,8 @@ PROVISIONAL_WIDTH = 3
 # model that stays unexplained, its frequency must agree under every law. On clean GMS data (held
 # out seed 106) the base that took up LS's misfit came out at 4.56 kHz under LS and 16.7 kHz from
 # LuGre's and GMS's calibrations (3.7 x); true bases (independent seeds 100-104, 106, 107)
-# 1.01-1.23 x as the guard fits them (docs/diagnosis.md, step 8).
+# 1.01-1.23 x from their calibrations (docs/diagnosis.md, step 8; the guard also fits a base from
+# nominal and keeps the cheaper fit, _law_starts).
 LAW_SENSITIVE = {"piezo_hysteresis": "hysteresis_alpha", "base_compliance": "base_freq_hz"}
 LAW_SPREAD_MAX = 2.0
 # Such a cause that carries FINAL_SHARE but not UNEXPLAINED_FINAL_SHARE of a model that stays
