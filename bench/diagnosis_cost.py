@@ -1,7 +1,8 @@
 """What each diagnosis of the hit-rate tables costs, in model steps (deterministic, unlike wall
 time on a shared machine), by stage, and where its kept causes came from (the round, and whether
 from the first batch of fits of a screen or a later one), and its timeline (each progress message
-with the wall time and model steps before it). One JSON line a diagnosis, so a run can be compared
+with the wall time and model steps before it), and the report's candidates (each cause's fitted
+validation error and parameters). One JSON line a diagnosis, so a run can be compared
 with another line by line; the answers are diagnosis_bench.py's.
 
     PYTHONPATH=hil:bench .venv/bin/python bench/diagnosis_cost.py --generator own --out own.jsonl
@@ -73,6 +74,9 @@ def tag_batches() -> None:
         return out
 
     SE.Session.fit_pending = tagged
+
+
+CANDIDATE_KEYS = ("name", "validation_rmse_m", "params", "confirmed", "screened_only")
 
 
 def stage_of(msg: str) -> str:
@@ -178,6 +182,11 @@ def main() -> int:
                     },
                     "rounds": [len(r) for r in d.rounds],
                     "kept": kept,
+                    # the report's candidates, without their guards: how close each cause fitted
+                    # in a named one's place came is read from these offline (twin checks)
+                    "candidates": [
+                        {k: c[k] for k in CANDIDATE_KEYS if k in c} for c in j["candidates"]
+                    ],
                     # every progress message with the wall time and model steps (M) before it: a
                     # rule that would stop the search at some point is costed from this offline
                     "timeline": timeline,
