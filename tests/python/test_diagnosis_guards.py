@@ -285,6 +285,8 @@ def test_a_batch_that_falls_short_of_a_pending_cause_s_screen_fits_the_next_batc
 
         class Ex:
             def submit(self, fn, train, val, nominal, start, free, *rest, **kw):
+                if isinstance(start, tuple):  # fit_under_best_calibration: (model, free), others
+                    start, free = start
                 (cause,) = free.causes
                 fitted.append(cause)
                 fu: Future = Future()

@@ -249,3 +249,33 @@ def test_a_refit_without_a_run_keeps_the_heat_it_leaves():
 
     assert r.shape == rows.shape
     assert np.sqrt(np.mean((r - truth) ** 2)) < 0.05
+
+
+def test_a_first_cause_goes_on_from_another_law_s_calibration_only_when_it_ranks_better():
+    """session.fit_under_best_calibration: on runs an LS contact made with a
+    0.1 N load, the load started under LS (the parent) and under LuGre (another calibration) is
+    fit()'s from LS, bit for bit: LuGre's ranked first stage does not beat LS's full one. With
+    the parts swapped, LuGre's parent loses to LS's ranked start, and the result is fit()'s
+    from LS again, bit for bit."""
+    from stickslip.diagnosis import session as SE
+
+    runs = _load_runs((2, 3))  # 100 Hz both ways
+    free = Free((), ("external_load",))
+    runs = _made_by(runs, [Model(NOMINAL, Effects(load_n=0.1), causes=("external_load",))] * 2)
+    ls, lugre = (
+        Model(NOMINAL, Effects(load_n=0.01), causes=("external_load",), law=law)
+        for law in ("ls", "lugre")
+    )
+    noise_m = 2e-9
+    expected = F.fit(runs, NOMINAL, ls, free, noise_m, SE.FIT_NFEV, grid=False)
+    assert abs(expected.model.effects.load_n - 0.1) < 1e-3  # the load found, to 1 %
+
+    for parent, other in ((ls, lugre), (lugre, ls)):
+        got, _ = SE.fit_under_best_calibration(
+            runs, runs, NOMINAL, (parent, free), [(other, free)], noise_m
+        )
+        assert got.model.law == "ls"
+        assert got.values == expected.values and got.train_rms_m == expected.train_rms_m
+        assert np.array_equal(got.jac, expected.jac)
+        # the full first stages' costs only: LuGre's when it was the parent, LS's always
+        assert set(got.first_stage_costs) == {"ls", parent.law}
