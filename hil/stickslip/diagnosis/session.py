@@ -383,11 +383,11 @@ class Session:
             if not parent.causes and (x.cause in FIT_FROM_NOMINAL or self.calibration_bent):
                 futs.append(self.submit_under_best_law(x, m))
                 continue
-            if x.on_calibrated and not parent.causes and not x.from_nominal:
-                futs.append(self.submit_under_best_calibration(x, parent))
-                continue
             if not parent.causes and not x.from_nominal:
-                futs.append(self.submit_from_every_calibration(x, parent))
+                if x.on_calibrated:
+                    futs.append(self.submit_under_best_calibration(x, parent))
+                else:
+                    futs.append(self.submit_from_every_calibration(x, parent))
                 continue
             if x.from_nominal:
                 m = self.at_nominal(replace(m, law=x.law))
@@ -405,6 +405,13 @@ class Session:
             if law != parent.law and not clearly_worse(o, parent)
         ]
 
+    def calibrated_start(self, c: Candidate, x: Screened) -> tuple[Model, Free]:
+        """A first-round cause's start on calibration c: its screened values on c's model, with
+        the base parameters c's law identified freed again."""
+        m = c.fit.model
+        fx = replace(m.effects, **start_values(x))
+        return replace(m, effects=fx), Free(self.free_base[c.law], (x.cause,))
+
     def submit_under_best_calibration(self, x: Screened, parent: Candidate) -> Future:
         """A first-round cause that screened best on another law's calibration, fitted from every
         calibration it was screened on, on to the end from the one whose first stage fits best.
@@ -412,11 +419,10 @@ class Session:
         seed 100, a LuGre contact: the load probed best on GMS's calibration, 725 nm, and fitted
         there reached 61 nm, where from LuGre's it reaches 3 nm; the asymmetry, its twin, fitted
         from LuGre's to 54 nm and was named)."""
-        starts = []
-        for c in [parent, *self.other_calibrations(parent)]:
-            m, law = c.fit.model, c.law
-            m = replace(m, effects=replace(m.effects, **start_values(x)))
-            starts.append((m, Free(self.free_base[law], (x.cause,)), False))
+        starts = [
+            (*self.calibrated_start(c, x), False)
+            for c in [parent, *self.other_calibrations(parent)]
+        ]
         return self.ex.submit(
             fit_under_best_law, self.train, self.val, self.nominal, starts, self.noise_m, FIT_NFEV
         )
@@ -424,19 +430,15 @@ class Session:
     def submit_from_every_calibration(self, x: Screened, parent: Candidate) -> Future:
         """A first-round cause screened on parent, fitted from parent's calibration unless
         another law's calibration ranks better (fit_under_best_calibration)."""
-
-        def start(c: Candidate) -> tuple[Model, Free]:
-            m = c.fit.model
-            m = replace(m, effects=replace(m.effects, **start_values(x)))
-            return m, Free(self.free_base[c.law], (x.cause,))
-
-        others = [start(o) for law, o in self.calibrated.items() if law != parent.law]
+        others = [
+            self.calibrated_start(o, x) for law, o in self.calibrated.items() if law != parent.law
+        ]
         return self.ex.submit(
             fit_under_best_calibration,
             self.train,
             self.val,
             self.nominal,
-            start(parent),
+            self.calibrated_start(parent, x),
             others,
             self.noise_m,
             FIT_NFEV,
