@@ -482,8 +482,8 @@ def test_a_first_cause_of_the_law_s_own_kind_that_keeps_its_size_under_every_law
 
 def test_a_first_cause_is_started_from_each_law_s_calibration_however_much_worse():
     # independent GMS creep 133: LuGre calibrated to 72.6 nm, GMS to 110 nm (clearly worse), so
-    # the creep was screened and fitted on LuGre's alone (62 nm); from GMS's calibration it
-    # reaches 17.1 nm. The parent's start and every other law's go to fit_under_best_calibration.
+    # the creep was screened and fitted on LuGre's alone (62 nm); from GMS's calibration it is
+    # named at 15.7 nm. The parent's start and every other law's go to fit_under_best_calibration.
     load = Screened("external_load", {"load_n": 0.2}, 1.0, 10, 2.0, 1.0)
     s, ex, base = _session()
     cal = _calibrated(s)
