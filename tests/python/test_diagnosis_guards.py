@@ -358,17 +358,52 @@ def test_a_prediction_made_once_is_kept_and_only_for_what_decides_it(monkeypatch
         assert len(other.sims) == 0
 
 
-def test_a_family_harmed_to_first_order_is_judged_by_full_refits(monkeypatch):
-    """Session.cross_validate: a family the cause harms to first order (here 30 x the model
-    without it) is refitted in full without that family, both models, and those refits decide
-    (both miss it alike: not harmed, and the cause, which wins three of the other four, carries
-    over). Each harmed family gets its own refits; families not harmed get none."""
+def _cv_session(monkeypatch, rows, first_order, full, asked):
+    """A Session whose cross-validation sees one-run families a, b, ... of rows (run_of_row), each
+    model's first-order residual first_order[side] (side: "with" the cause or "without"), and,
+    refitted in full without family k, the residual full[side][k] on every row; each refit asked
+    for is logged in asked as (side, held runs). Returns the session and the two candidates."""
     from concurrent.futures import Future
 
     from stickslip.diagnosis import session as SE
     from stickslip.diagnosis.fit import Evaluation, refit_without
     from stickslip.diagnosis.result import Candidate
 
+    class Ex:
+        def submit(self, fn, runs, nominal, model, free, noise_m, held, nfev):
+            assert fn is refit_without
+            side = "with" if model.causes else "without"
+            asked.append((side, tuple(held)))
+            fu: Future = Future()
+            fu.set_result(np.full(len(rows), full[side][held[0]]))
+            return fu
+
+    def cand(causes):
+        m = Model(ActuatorParams.table1(), Effects(load_n=0.01 if causes else 0.0), causes=causes)
+        f = FitResult(Free((), causes), m, m.values(), 0.0, 0)
+        return Candidate(f, Evaluation(0, 0, 1, 1), 0.0)
+
+    s = Session(ActuatorParams.table1(), [], [], [], 2e-9, Ex(), lambda _: None)
+    n_runs = int(rows.max()) + 1
+    s.families = [(chr(ord("a") + i), [i]) for i in range(n_runs)]
+    done: Future = Future()
+    done.set_result(None)
+    s.linearization = lambda c: [done]  # type: ignore[method-assign]
+    monkeypatch.setattr(
+        SE,
+        "assemble",
+        lambda runs, nominal, model, free, cols: Linearization(
+            first_order["with" if model.causes else "without"], np.zeros((len(rows), 0)), rows
+        ),
+    )
+    return s, cand(()), cand(("external_load",))
+
+
+def test_a_family_harmed_to_first_order_is_judged_by_full_refits(monkeypatch):
+    """Session.cross_validate: a family the cause harms to first order (here 30 x the model
+    without it) is refitted in full without that family, both models, and those refits decide
+    (both miss it alike: not harmed, and the cause, which wins three of the other four, carries
+    over). Each harmed family gets its own refits; families not harmed get none."""
     # six one-run families of ten rows: the cause wins three, loses a little on one (so that a
     # harmed family is not excused) and harms families c and f
     rows = np.repeat(np.arange(6), 10)
@@ -378,35 +413,8 @@ def test_a_family_harmed_to_first_order_is_judged_by_full_refits(monkeypatch):
     }
     # refitted in full without family k, each model misses it by its own figure (both alike)
     full = {"without": {2: 40.0, 5: 60.0}, "with": {2: 41.0, 5: 59.0}}
-    asked = []
-
-    class Ex:
-        def submit(self, fn, runs, nominal, model, free, noise_m, held, nfev):
-            assert fn is refit_without
-            side = "with" if model.causes else "without"
-            asked.append((side, tuple(held)))
-            fu: Future = Future()
-            fu.set_result(np.full(60, full[side][held[0]]))
-            return fu
-
-    def cand(causes):
-        m = Model(ActuatorParams.table1(), Effects(load_n=0.01 if causes else 0.0), causes=causes)
-        f = FitResult(Free((), causes), m, m.values(), 0.0, 0)
-        return Candidate(f, Evaluation(0, 0, 1, 1), 0.0)
-
-    without, with_ = cand(()), cand(("external_load",))
-    s = Session(ActuatorParams.table1(), [], [], [], 2e-9, Ex(), lambda _: None)
-    s.families = [(name, [i]) for i, name in enumerate("abcdef")]
-    done: Future = Future()
-    done.set_result(None)
-    s.linearization = lambda c: [done]  # type: ignore[method-assign]
-    monkeypatch.setattr(
-        SE,
-        "assemble",
-        lambda runs, nominal, model, free, cols: Linearization(
-            first_order["with" if model.causes else "without"], np.zeros((60, 0)), rows
-        ),
-    )
+    asked: list = []
+    s, without, with_ = _cv_session(monkeypatch, rows, first_order, full, asked)
     v = Verdict()
     s.cross_validate(v, without, with_)
 
@@ -438,3 +446,68 @@ def test_a_family_harmed_to_first_order_is_judged_by_full_refits(monkeypatch):
     s.cross_validate(lost, without, with_)
     assert asked == [] and not any(f.refitted for f in lost.folds)
     assert not lost.confirmed
+
+
+def test_refits_stop_once_the_harm_has_decided(monkeypatch):
+    """Session.cross_validate refits the most harmed family first, and no further once the rest
+    could not change the verdict (guards.harm_decided): a family still harmed after its refit,
+    beside a family the cause does not clearly help, refuses it however the others come out. The
+    families not refitted are not judged; the verdict and the JSON say so. When the one family
+    still harmed could yet be excused (every final family clearly better), the refits go on."""
+    rows = np.repeat(np.arange(6), 10)
+    # the cause harms a (3 x), c (30 x) and f (25 x) to first order, wins b, e, and is no better
+    # on d (1.1 x worse: not clearly better, not harmed)
+    first_order = {
+        "without": np.select(
+            [rows == 0, rows == 2, rows == 3, rows == 5], [2.0, 1.0, 3.0, 2.0], 10.0
+        ),
+        "with": np.select(
+            [rows == 0, rows == 2, rows == 3, rows == 5], [6.0, 30.0, 3.3, 50.0], 1.0
+        ),
+    }
+    full = {"without": {0: 2.0, 2: 5.0, 5: 5.0}, "with": {0: 2.0, 2: 20.0, 5: 5.0}}  # c stays
+    asked: list = []
+    s, without, with_ = _cv_session(monkeypatch, rows, first_order, full, asked)
+    v = Verdict()
+    s.cross_validate(v, without, with_)
+    assert sorted(asked) == [("with", (2,)), ("without", (2,))]  # c, the most harmed, alone
+    assert [f.family for f in v.folds] == ["b", "c", "d", "e"]
+    assert [f.family for f in v.unrefitted] == ["a", "f"]
+    assert not v.confirmed
+    assert (
+        "c (16.0 x)" in v.reasons[-1]
+        and "a, f harmed to first order, not refitted" in v.reasons[-1]
+    )
+    refit = {e["left_out"]: e["refit"] for e in v.to_json()["cross_validation"]}
+    assert refit == {
+        "a": "skipped",
+        "b": "first_order",
+        "c": "full",
+        "d": "first_order",
+        "e": "first_order",
+        "f": "skipped",
+    }
+    # the refits decide alike either way: all of them run, the verdict is the same
+    judged = Verdict(
+        folds=v.folds
+        + [
+            FoldResult(
+                n, full["without"][k] ** 2 * 10, full["with"][k] ** 2 * 10, 10, refitted=True
+            )
+            for n, k in (("a", 0), ("f", 5))
+        ]
+    )
+    judge_cv(judged)
+    assert not judged.confirmed
+
+    # d clearly better: c, still harmed, could yet be the one excused family, so f and a are
+    # refitted (most harmed first); f stays harmed too, and a is then not needed
+    first_order["with"] = np.where(rows == 3, 1.0, first_order["with"])
+    full["with"][5] = 20.0
+    asked.clear()
+    s._refit_cache.clear()
+    v = Verdict()
+    s.cross_validate(v, without, with_)
+    assert [h for _, (h,) in asked] == [2, 2, 5, 5]
+    assert [f.family for f in v.unrefitted] == ["a"]
+    assert not v.confirmed

@@ -169,6 +169,9 @@ class Verdict:
     absent: tuple[str, ...] = ()
     share: float = 0.0  # of the excess validation error removed
     folds: list[FoldResult] = field(default_factory=list)
+    # families harmed to first order whose full refits were not run: the refitted ones had already
+    # refused the cause (harm_decided); not judged, and listed as such
+    unrefitted: list[FoldResult] = field(default_factory=list)
     reasons: list[str] = field(default_factory=list)
 
     @property
@@ -188,6 +191,15 @@ class Verdict:
                     "refit": "full" if f.refitted else "first_order",
                 }
                 for f in self.folds
+            ]
+            + [
+                {
+                    "left_out": f.family,
+                    "mse_without": f.rss_without / f.n,
+                    "mse_with": f.rss_with / f.n,
+                    "refit": "skipped",  # harmed to first order, not judged (Verdict.unrefitted)
+                }
+                for f in self.unrefitted
             ],
         }
 
@@ -227,13 +239,28 @@ def share_removed(mse_without: float, mse_with: float) -> float:
     return (mse_without - mse_with) / excess if excess > 0 else 0.0
 
 
+def clearly_better(f: FoldResult) -> bool:
+    """Does the model with the cause predict the family better by CV_MAX_HARM or more?"""
+    return CV_MAX_HARM * f.rss_with <= f.rss_without
+
+
+def harm_decided(final: list[FoldResult]) -> bool:
+    """Is the cause refused by the harm it does to families, whatever the folds still to be
+    refitted come out as? final: the folds whose values are final (not harmed to first order, or
+    refitted in full). A family still harmed is excused only when it is the only one and every
+    other family is clearly better (judge_cv): two harmed, or one and a final fold not clearly
+    better, refuse the cause however the rest come out."""
+    still = [f for f in final if f.harmed]
+    return len(still) >= 2 or (
+        len(still) == 1 and any(not clearly_better(f) for f in final if f is not still[0])
+    )
+
+
 def judge_cv(v: Verdict) -> None:
     if not v.folds:
         return
     harmed = [f for f in v.folds if f.harmed]
-    excused = len(harmed) == 1 and all(
-        CV_MAX_HARM * f.rss_with <= f.rss_without for f in v.folds if f is not harmed[0]
-    )
+    excused = len(harmed) == 1 and all(clearly_better(f) for f in v.folds if f is not harmed[0])
     # an excused fold's refit is not to be trusted: it counts neither way, in the total either
     folds = [f for f in v.folds if not (excused and f is harmed[0])]
     drop = sum(f.rss_without - f.rss_with for f in folds)
@@ -250,4 +277,10 @@ def judge_cv(v: Verdict) -> None:
             "predicts left-out run families worse than the model without it: "
             + ", ".join(f"{f.family} ({f.rss_with / f.rss_without:.1f} x)" for f in harmed)
             + " (a physical effect would act on them by the same law)"
+            + (
+                "; " + ", ".join(f.family for f in v.unrefitted) + " harmed to first order, "
+                "not refitted: the verdict was decided"
+                if v.unrefitted
+                else ""
+            )
         )
