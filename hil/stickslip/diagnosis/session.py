@@ -26,7 +26,6 @@ from .evidence import (
     within_unexplained_limit,
 )
 from .fit import (
-    SIM_THREADS,
     Evaluation,
     FitResult,
     Free,
@@ -535,43 +534,29 @@ class Session:
         wins = sum(f.rss_with < f.rss_without for f in folds if not f.harmed)
         pending: list[int] = []
         if harmed and 2 * (wins + len(harmed)) > len(folds):
-            # the most harmed first, a batch at a time, until the rest could not change the
-            # verdict (harm_decided): on clean data of another law a spurious cause's first
-            # refitted family usually stays harmed beside a family it does not help, and its other
-            # refits (a third of a diagnosis' model steps, independent clean LS-b) decide nothing
+            # the most harmed first, one at a time, until the rest could not change the verdict
+            # (harm_decided): on clean data of another law a spurious cause's first refitted
+            # family often stays harmed beside a family it does not help, and its other refits
+            # decide nothing. One family's two refits (one, when the parent's is cached from an
+            # earlier check) keep both cores busy: each evaluation spreads its runs over them.
             pending = sorted(harmed, key=lambda i: folds[i].rss_without / folds[i].rss_with)
             while pending:
                 if harm_decided([f for i, f in enumerate(folds) if i not in pending]):
                     break
-                batch = self.refit_batch(pending, (without, with_))
-                names = ", ".join(folds[i].family for i in batch)
-                what = "family" if len(batch) == 1 else "families, one at a time"
-                self.say(f"refitting in full without the {names} {what}: harmed to first order")
-                refits = {
-                    i: [self.fold_refit(c, self.families[i][1]) for c in (without, with_)]
-                    for i in batch
-                }
-                for i, (fa, fb) in refits.items():
-                    held = np.isin(a.run_of_row, self.families[i][1])
-                    ra, rb = (float(np.sum(fu.result()[held] ** 2)) for fu in (fa, fb))
-                    folds[i] = FoldResult(folds[i].family, ra, rb, folds[i].n, refitted=True)
-                pending = pending[len(batch) :]
+                i = pending.pop(0)
+                self.say(
+                    f"refitting in full without the {folds[i].family} family: harmed to first order"
+                )
+                held = self.families[i][1]
+                rows = np.isin(a.run_of_row, held)
+                ra, rb = (
+                    float(np.sum(fu.result()[rows] ** 2))
+                    for fu in [self.fold_refit(c, held) for c in (without, with_)]
+                )
+                folds[i] = FoldResult(folds[i].family, ra, rb, folds[i].n, refitted=True)
         v.folds.extend(f for i, f in enumerate(folds) if i not in pending)
         v.unrefitted.extend(folds[i] for i in sorted(pending))
         judge_cv(v)
-
-    def refit_batch(self, pending: list[int], models: tuple[Candidate, ...]) -> list[int]:
-        """The next families of pending to refit at once: enough for SIM_THREADS refits not yet
-        run (a parent's are cached across checks), so that the cores stay busy."""
-        batch: list[int] = []
-        todo = 0
-        for i in pending:
-            batch.append(i)
-            held = tuple(self.families[i][1])
-            todo += sum((id(c), held) not in self._refit_cache for c in models)
-            if todo >= SIM_THREADS:
-                break
-        return batch
 
     def fold_refit(self, c: Candidate, held: list[int]) -> Future:
         """c refitted in full without the held runs (fit.refit_without): its residual on every
