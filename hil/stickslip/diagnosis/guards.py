@@ -188,18 +188,13 @@ class Verdict:
                     "left_out": f.family,
                     "mse_without": f.rss_without / f.n,
                     "mse_with": f.rss_with / f.n,
-                    "refit": "full" if f.refitted else "first_order",
+                    "refit": refit,
                 }
-                for f in self.folds
-            ]
-            + [
-                {
-                    "left_out": f.family,
-                    "mse_without": f.rss_without / f.n,
-                    "mse_with": f.rss_with / f.n,
-                    "refit": "skipped",  # harmed to first order, not judged (Verdict.unrefitted)
-                }
-                for f in self.unrefitted
+                for f, refit in [
+                    *((f, "full" if f.refitted else "first_order") for f in self.folds),
+                    # harmed to first order, not judged (Verdict.unrefitted)
+                    *((f, "skipped") for f in self.unrefitted),
+                ]
             ],
         }
 
