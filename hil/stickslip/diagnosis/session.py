@@ -93,7 +93,7 @@ SCREEN_SHARE_OF_NEED = 0.5
 # full one) and goes on to a full first stage only when that already beats the parent's, so that
 # the fit is fit()'s from the parent, bit for bit, when no other law wins (both hit-rate
 # tables: every hit kept; GMS singles 11 / 18, 10 / 18 before; clean GMS +20 % model steps).
-RANK_NFEV = 4
+RANK_NFEV = 2
 
 
 def fitted(fu: Future) -> tuple[FitResult, Evaluation]:
