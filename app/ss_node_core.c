@@ -62,6 +62,7 @@ static ss_actuator_config_f32_t config_from(const ss_node_params_t *p)
     e->base_damping_ratio = v[SS_NODE_P_BDAMP];
     e->sensor_scale_error = v[SS_NODE_P_SSCALE];
     c.dt_s = v[SS_NODE_P_DT];
+    e->amp_bandwidth_hz = v[SS_NODE_P_AMPBW];
     return c;
 }
 

@@ -21,8 +21,8 @@ enum {
     SS_NODE_P_COUNT
 };
 #define SS_NODE_N_PARAMS ((uint32_t)SS_NODE_P_COUNT)
-#define SS_NODE_N_PARAMS_TEXT "28" /* in reason texts; a static assertion keeps it true */
-typedef char ss_node_n_params_text_check[(SS_NODE_P_COUNT == 28) ? 1 : -1];
+#define SS_NODE_N_PARAMS_TEXT "29" /* in reason texts; a static assertion keeps it true */
+typedef char ss_node_n_params_text_check[(SS_NODE_P_COUNT == 29) ? 1 : -1];
 
 /* Steps a free run may take in one poll before the front end reads its link again. */
 #define SS_NODE_MAX_STEPS_PER_POLL 2000u

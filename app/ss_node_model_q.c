@@ -48,6 +48,7 @@ static const char *no_effects_reason(const char *field)
         SS_NO_Q("effects.creep_ratio"),
         SS_NO_Q("effects.friction_gradient_per_m"),
         SS_NO_Q("effects.thermal_coeff_per_j"),
+        SS_NO_Q("effects.amp_bandwidth_hz"),
 
     };
     for (size_t i = 0; i < sizeof table / sizeof table[0]; ++i) {

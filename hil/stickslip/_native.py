@@ -68,6 +68,7 @@ class EffectsConfig(C.Structure):
             "load_n",
             "friction_gradient_per_m",
             "slew_v_per_s",
+            "amp_bandwidth_hz",
             "thermal_coeff_per_j",
             "thermal_tau_s",
             "base_mass_kg",

@@ -65,6 +65,7 @@ class Effects:
     friction_gradient_per_m: float = 0.0
     friction_asymmetry: float = 0.0
     slew_v_per_s: float = 0.0
+    amp_bandwidth_hz: float = 0.0
     thermal_coeff_per_j: float = 0.0
     thermal_tau_s: float = 0.0
     base_mass_kg: float = 0.0

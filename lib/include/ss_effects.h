@@ -20,6 +20,9 @@ typedef struct {
     float friction_gradient_per_m; /* [-1e5, 1e5] */
     /* amplifier_slew_limit: the piezo voltage follows the command at most this fast */
     float slew_v_per_s; /* 0 = off, else [1e2, 1e12] */
+    /* ... and its small-signal bandwidth: behind the slew limit the voltage lags the command with
+     * time constant tau = 1 / (2 pi f), dV/dt = clamp((V_cmd - V) / tau, -slew, +slew) */
+    float amp_bandwidth_hz; /* 0 = unlimited, else [1e3, 1e10] */
     /* thermal_drift: Fs and Fc times 1 - coeff q (clamped to >= 0.1), q the stored frictional heat:
      * dq/dt = |F v_rel| - q / tau */
     float thermal_coeff_per_j; /* [-1e6, 1e6], 0 = off */
@@ -34,6 +37,7 @@ typedef struct {
 
 typedef struct {
     float amp_v;          /* voltage on the piezo (the slew-limited command) */
+    float amp_cmd_v;      /* the command at the end of the last step (its ramp drives the lag) */
     float creep_v;        /* creep state w, V */
     float hysteresis_m;   /* Bouc-Wen hysteretic strain h, m */
     float strain_m;       /* ideal strain u before hysteresis, m */

@@ -134,9 +134,9 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
     /* the q family models the load, the slew limit and the sensor scale (ss_effects_q.h); a config
      * that asks for another effect is refused by its field name, never run without it. */
     static const char *const effect_names[] = {"effects.creep_ratio", "effects.friction_gradient_per_m",
-                                               "effects.thermal_coeff_per_j"};
+                                               "effects.thermal_coeff_per_j", "effects.amp_bandwidth_hz"};
     const float switches[] = {in->effects.creep_ratio, in->effects.friction_gradient_per_m,
-                              in->effects.thermal_coeff_per_j};
+                              in->effects.thermal_coeff_per_j, in->effects.amp_bandwidth_hz};
     for (size_t i = 0; i < sizeof switches / sizeof switches[0]; ++i) {
         if (switches[i] != 0.0f) {
             *bad = effect_names[i];

@@ -20,6 +20,7 @@ ss_effects_config_f32_t ss_effects_config_none_f32(void)
     c.load_n = 0.0f;
     c.friction_gradient_per_m = 0.0f;
     c.slew_v_per_s = 0.0f;
+    c.amp_bandwidth_hz = 0.0f;
     c.thermal_coeff_per_j = 0.0f;
     c.thermal_tau_s = 0.0f;
     c.base_mass_kg = 0.0f;
@@ -41,6 +42,7 @@ ss_status_t ss_effects_config_check_f32(const ss_effects_config_f32_t *c, const 
     const int hyst = c->hysteresis_alpha != 0.0f;
     const int creep = c->creep_ratio != 0.0f;
     const int slew = c->slew_v_per_s != 0.0f;
+    const int bw = c->amp_bandwidth_hz != 0.0f;
     const int thermal = c->thermal_coeff_per_j != 0.0f;
     const int base = c->base_mass_kg != 0.0f;
     const ss_range_f32_t ranges[] = {
@@ -51,6 +53,7 @@ ss_status_t ss_effects_config_check_f32(const ss_effects_config_f32_t *c, const 
         {"effects.load_n", c->load_n, -1e3f, 1e3f},
         {"effects.friction_gradient_per_m", c->friction_gradient_per_m, -1e5f, 1e5f},
         {"effects.slew_v_per_s", c->slew_v_per_s, slew ? 1e2f : 0.0f, slew ? 1e12f : 0.0f},
+        {"effects.amp_bandwidth_hz", c->amp_bandwidth_hz, bw ? 1e3f : 0.0f, bw ? 1e10f : 0.0f},
         {"effects.thermal_coeff_per_j", c->thermal_coeff_per_j, -1e6f, 1e6f},
         {"effects.thermal_tau_s", c->thermal_tau_s, thermal ? 1e-4f : -big, thermal ? 1e6f : big},
         {"effects.base_mass_kg", c->base_mass_kg, base ? 1e-4f : 0.0f, base ? 1e3f : 0.0f},
@@ -65,6 +68,7 @@ void ss_effects_init_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f3
                          float v0_v)
 {
     st->amp_v = v0_v;
+    st->amp_cmd_v = v0_v;
     st->creep_v = v0_v;
     st->strain_m = gain_m_per_v * (v0_v + cfg->creep_ratio * v0_v);
     st->hysteresis_m = 0.0f;
@@ -79,17 +83,63 @@ float ss_effects_drive_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_
     return ss_effects_drive_inline_f32(cfg, st, gain_m_per_v, command_v, dt_s);
 }
 
+/* The amplifier's output at the end of a piece of dt_s along which the command runs straight from
+ * the last one (st->amp_cmd_v) to command_v: the exact solution of
+ * dV/dt = clamp((V_cmd - V) / tau, -slew, +slew) (docs/effects.md). In the lag e = V_cmd - V, with
+ * r the command's rate: outside the band |e| <= slew tau the voltage runs at the slew rate s and e
+ * changes at r - s; inside it e relaxes to r tau as exp(-t / tau). A piece enters the band at most
+ * once and leaves it at most once (where r tau lies outside it, a ramp steeper than the slew). */
+static float amplifier_with_bandwidth(const ss_effects_config_f32_t *cfg, const ss_effects_state_f32_t *st,
+                                      float command_v, float dt_s)
+{
+    const float tau = 1.0f / (6.28318531f * cfg->amp_bandwidth_hz);
+    const float slew = (cfg->slew_v_per_s > 0.0f) ? cfg->slew_v_per_s : INFINITY;
+    const float band = slew * tau; /* the lag past which the slew limit holds */
+    if (!(dt_s > 0.0f)) {
+        return st->amp_v;
+    }
+    const float r = (command_v - st->amp_cmd_v) / dt_s;
+    const float target = r * tau; /* the lag a ramp of rate r settles to inside the band */
+    float e = st->amp_cmd_v - st->amp_v;
+    float left = dt_s;
+    if (e > band || e < -band) {
+        const float s = (e > 0.0f) ? slew : -slew;
+        const float t_in = (((e > 0.0f) ? band : -band) - e) / (r - s); /* > 0: moving in */
+        if (!(t_in > 0.0f) || t_in >= left) {
+            return command_v - (e + (r - s) * left);
+        }
+        e = (e > 0.0f) ? band : -band;
+        left -= t_in;
+    }
+    if (target > band || target < -band) {
+        const float edge = (target > 0.0f) ? band : -band;
+        /* ln((e - target) / (edge - target)), with its digits where the two are close */
+        const float t_out = tau * log1pf((e - edge) / (edge - target));
+        if (t_out < left) {
+            return command_v - (edge + (r - ((target > 0.0f) ? slew : -slew)) * (left - t_out));
+        }
+    }
+    /* target + (e - target) exp(-x) without the difference of the two: a short piece of a steep
+     * ramp has a target far above the lag it ends with */
+    float decay;
+    const float grown = -ss_expm1_neg_f32(left / tau, &decay); /* 1 - exp(-x), to its last digits */
+    return command_v - (e * decay + target * grown);
+}
+
 float ss_effects_drive_shaped_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f32_t *st,
                                   float gain_m_per_v, float command_v, float dt_s)
 {
-    /* amplifier: a slew-rate limit on the output voltage */
+    /* amplifier: a slew-rate limit on the output voltage, and its bandwidth */
     float amp = command_v;
-    if (cfg->slew_v_per_s > 0.0f) {
+    if (cfg->amp_bandwidth_hz > 0.0f) {
+        amp = amplifier_with_bandwidth(cfg, st, command_v, dt_s);
+    } else if (cfg->slew_v_per_s > 0.0f) {
         const float max_dv = cfg->slew_v_per_s * dt_s;
         const float dv = command_v - st->amp_v;
         amp = st->amp_v + ((dv > max_dv) ? max_dv : ((dv < -max_dv) ? -max_dv : dv));
     }
     st->amp_v = amp;
+    st->amp_cmd_v = command_v;
     /* creep: w follows the voltage with time constant tau (exact for a voltage held over dt) */
     float u = amp;
     if (cfg->creep_ratio > 0.0f) {

@@ -172,6 +172,85 @@ static void test_slew_limit(void **unused)
     assert_close(st.fx.amp_v, 100.0, 0.0);
 }
 
+/* The amplifier's voltage behind a slew limit and a bandwidth, dV/dt = clamp((V_cmd - V) / tau,
+ * -slew, +slew), in double by explicit Euler at 0.1 ns (tau is 1 us: the Euler error is 1e-4 of a
+ * volt's lag at most, below the float tolerance below). cmd(t) is linear between the ends of
+ * steps of dt, as the library's piecewise-exact solution takes it. */
+static double amp_reference(double v, const float *cmd, int n, double dt, double tau, double slew, int k_end,
+                            double *out)
+{
+    const int sub = (int)(dt / 1e-10 + 0.5);
+    const double h = dt / sub;
+    for (int k = 1; k <= k_end && k < n; ++k) {
+        for (int j = 0; j < sub; ++j) {
+            const double c = cmd[k - 1] + (cmd[k] - cmd[k - 1]) * ((j + 0.5) / sub);
+            double rate = (c - v) / tau;
+            rate = (rate > slew) ? slew : ((rate < -slew) ? -slew : rate);
+            v += rate * h;
+        }
+        out[k] = v;
+    }
+    return v;
+}
+
+/* With a bandwidth the amplifier lags the command by rate x tau on a slow ramp, slews at the limit
+ * on a fast edge and catches up along exp(-t / tau): every step's end against the reference, over
+ * a rise, a 15 us fall at 6.7 V/us against a 1.44 V/us limit (in the band, out of it, a ramp that
+ * outruns the slew from inside the band), the rise after it, and a turn while still slewing. */
+static void test_amplifier_bandwidth(void **unused)
+{
+    (void)unused;
+    ss_effects_config_f32_t e = ss_effects_config_none_f32();
+    e.slew_v_per_s = 1.44e6f;
+    e.amp_bandwidth_hz = 160e3f;
+    const char *bad = NULL;
+    assert_int_equal(ss_effects_config_check_f32(&e, &bad), SS_OK);
+    const double tau = 1.0 / (2.0 * PI * 160e3);
+    enum { N = 200 };
+    float cmd[N];
+    const float dt = 1e-6f;
+    for (int k = 0; k < N; ++k) { /* 0.2 V/us up to 100 V, 15 us down, up again, a reversal at 120 */
+        const double t = k * 1e-6;
+        double c = (k <= 50) ? 90.0 + 0.2 * k : (k <= 65) ? 100.0 - 100.0 * (k - 50) / 15.0 : 0.2 * (k - 65);
+        if (k > 120) {
+            c = 0.2 * 55 + 3.0 * (k - 120); /* a 3 V/us rise that outruns the slew */
+        }
+        (void)t;
+        cmd[k] = (float)c;
+    }
+    ss_effects_state_f32_t st;
+    ss_effects_init_f32(&e, &st, 4.4e-8f, cmd[0]);
+    double ref[N];
+    amp_reference(cmd[0], cmd, N, dt, tau, 1.44e6, N - 1, ref);
+    double worst = 0.0;
+    for (int k = 1; k < N; ++k) {
+        const float x = ss_effects_drive_f32(&e, &st, 4.4e-8f, cmd[k], dt);
+        assert_close(x, st.amp_v * 4.4e-8, 1e-6 * 4.4e-6);
+        const double err = fabs((double)st.amp_v - ref[k]);
+        worst = (err > worst) ? err : worst;
+    }
+    /* float32 over 100 V: a few 1e-5 V; the lag itself is up to 21 V on the fall */
+    assert_true(worst < 2e-4);
+    /* the settled lag on the first ramp is rate x tau (0.2 V/us x 0.995 us), to the reference */
+    ss_effects_init_f32(&e, &st, 4.4e-8f, 0.0f);
+    for (int k = 1; k <= 40; ++k) {
+        (void)ss_effects_drive_f32(&e, &st, 4.4e-8f, 0.2f * (float)k, dt);
+    }
+    assert_close(8.0 - st.amp_v, 0.2e6 * tau, 1e-5);
+    /* without a slew limit: the plain first-order lag of a held step, exp(-t / tau) */
+    e.slew_v_per_s = 0.0f;
+    ss_effects_init_f32(&e, &st, 4.4e-8f, 0.0f);
+    (void)ss_effects_drive_f32(&e, &st, 4.4e-8f, 10.0f, 1e-9f); /* the step, in 1 ns */
+    for (int k = 1; k <= 5; ++k) {
+        (void)ss_effects_drive_f32(&e, &st, 4.4e-8f, 10.0f, dt);
+        assert_close(st.amp_v, 10.0 * (1.0 - exp(-(k * 1e-6 + 0.5e-9) / tau)), 2e-5);
+    }
+    /* its range: 0 (unlimited) or at least 1 kHz */
+    e.amp_bandwidth_hz = 500.0f;
+    assert_int_equal(ss_effects_config_check_f32(&e, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "effects.amp_bandwidth_hz");
+}
+
 /* After a voltage step the strain creeps by ratio x gain x V with time constant tau. */
 static void test_creep(void **unused)
 {
@@ -399,6 +478,7 @@ int main(void)
         cmocka_unit_test(test_external_load),
         cmocka_unit_test(test_asymmetric_friction),
         cmocka_unit_test(test_slew_limit),
+        cmocka_unit_test(test_amplifier_bandwidth),
         cmocka_unit_test(test_creep),
         cmocka_unit_test(test_hysteresis),
         cmocka_unit_test(test_thermal),

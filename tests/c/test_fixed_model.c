@@ -89,6 +89,11 @@ static void test_converter_names_bad_fields(void **unused)
     c.effects.creep_tau_s = 1e-2f;
     assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "effects.creep_ratio");
+    c = ok; /* an amplifier's bandwidth is a float-family effect */
+    c.effects.slew_v_per_s = 1e6f;
+    c.effects.amp_bandwidth_hz = 160e3f;
+    assert_int_equal(ss_actuator_config_to_q(&c, &q, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "effects.amp_bandwidth_hz");
     c = ok; /* a hysteresis narrower than the q family's 0.93 nm */
     c.effects.hysteresis_alpha = 0.1f;
     c.effects.hysteresis_width_m = 1e-10f;

@@ -167,7 +167,7 @@ static void test_set_model_is_all_or_nothing(void **unused)
     expect_error(request(SS_MSG_SET_MODEL, p, 10), SS_PERR_OUT_OF_RANGE, "slew_v_per_s: outside its range");
     p[5] = 99;
     expect_error(request(SS_MSG_SET_MODEL, p, 10), SS_PERR_UNKNOWN_PARAM, "id");
-    expect_error(request(SS_MSG_SET_MODEL, p, 7), SS_PERR_BAD_PAYLOAD, "SET_MODEL takes 1 to 28");
+    expect_error(request(SS_MSG_SET_MODEL, p, 7), SS_PERR_BAD_PAYLOAD, "SET_MODEL takes 1 to 29");
     expect_error(request(SS_MSG_SET_MODEL, p, 0), SS_PERR_BAD_PAYLOAD, "SET_MODEL");
     assert_memory_equal(&node.core.params, &before, sizeof before);
 }

@@ -118,7 +118,7 @@ def c_param_table() -> list[tuple[str, float, float]]:
 
 def test_python_parameter_ids_match_the_c_table_entry_by_entry():
     table = c_param_table()
-    assert len(table) == 28  # 13 actuator and friction parameters, 14 effects, the step
+    assert len(table) == 29  # 13 actuator and friction parameters, 14 effects, the step, 1 effect
     assert [name for name, _, _ in table] == P.PARAM_NAMES
     for i, (name, lo, hi) in enumerate(table):
         assert P.PARAM_NAMES.index(name) == i and lo < hi

@@ -90,9 +90,14 @@ PARAM_NAMES = [
     "sensor_scale_error",
     # the model's step (id 27), the node's clock for paced runs
     "step_s",
+    # the amplifier's bandwidth behind its slew limit (id 28), an effect added after the step
+    "amp_bandwidth_hz",
 ]
 STEP_ID = PARAM_NAMES.index("step_s")
-EFFECT_PARAMS = PARAM_NAMES[PARAM_NAMES.index("friction_asymmetry") : PARAM_NAMES.index("step_s")]
+EFFECT_PARAMS = [
+    *PARAM_NAMES[PARAM_NAMES.index("friction_asymmetry") : STEP_ID],
+    *PARAM_NAMES[STEP_ID + 1 :],
+]
 NODE_LAWS = {"ls": 0.0, "lugre": 1.0}  # the friction_model parameter's values
 
 
