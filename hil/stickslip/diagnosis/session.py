@@ -89,10 +89,14 @@ SCREEN_SHARE_OF_NEED = 0.5
 # makes a law's calibration worse (independent GMS creep, seed 133: LuGre calibrated to 72.6 nm
 # and GMS to 110 nm, so the creep was fitted on LuGre's alone, to 62 nm, and refused; from GMS's
 # calibration it is named at 15.7 nm, against the clean contact's floor of about 14 nm). Each
-# other calibration is ranked by RANK_NFEV iterations of its first stage (about a third of a
+# other calibration is ranked by RANK_NFEV iterations of its first stage (about a sixth of a
 # full one) and goes on to a full first stage only when that already beats the parent's, so that
 # the fit is fit()'s from the parent, bit for bit, when no other law wins (both hit-rate
 # tables: every hit kept; GMS singles 11 / 18, 10 / 18 before; clean GMS +20 % model steps).
+# Two iterations rank as four did (4 until 2026-11-30: both tables and the 20 GMS singles gave
+# every answer again) for fewer model steps: clean LS-b seed 103 2 187 -> 1 739 M, its
+# hysteresis refused before its cross-validation (BENCHMARKS.md, "Other laws' calibrations
+# ranked by two iterations").
 RANK_NFEV = 2
 
 
