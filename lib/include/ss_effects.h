@@ -22,7 +22,7 @@ typedef struct {
     float slew_v_per_s; /* 0 = off, else [1e2, 1e12] */
     /* ... and its small-signal bandwidth: behind the slew limit the voltage lags the command with
      * time constant tau = 1 / (2 pi f), dV/dt = clamp((V_cmd - V) / tau, -slew, +slew) */
-    float amp_bandwidth_hz; /* 0 = unlimited, else [1e3, 1e10] */
+    float amp_bandwidth_hz; /* 0 = unlimited, else [1e3, 1e10] with a slew limit on */
     /* thermal_drift: Fs and Fc times 1 - coeff q (clamped to >= 0.1), q the stored frictional heat:
      * dq/dt = |F v_rel| - q / tau */
     float thermal_coeff_per_j; /* [-1e6, 1e6], 0 = off */

@@ -53,7 +53,10 @@ ss_status_t ss_effects_config_check_f32(const ss_effects_config_f32_t *c, const 
         {"effects.load_n", c->load_n, -1e3f, 1e3f},
         {"effects.friction_gradient_per_m", c->friction_gradient_per_m, -1e5f, 1e5f},
         {"effects.slew_v_per_s", c->slew_v_per_s, slew ? 1e2f : 0.0f, slew ? 1e12f : 0.0f},
-        {"effects.amp_bandwidth_hz", c->amp_bandwidth_hz, bw ? 1e3f : 0.0f, bw ? 1e10f : 0.0f},
+        /* a bandwidth belongs to the amplifier's slew limit: on only beside one (an unlimited
+         * amplifier with a bandwidth is a slew of 1e12 V/s) */
+        {"effects.amp_bandwidth_hz", c->amp_bandwidth_hz, bw ? 1e3f : 0.0f,
+         bw ? (slew ? 1e10f : 0.0f) : 0.0f},
         {"effects.thermal_coeff_per_j", c->thermal_coeff_per_j, -1e6f, 1e6f},
         {"effects.thermal_tau_s", c->thermal_tau_s, thermal ? 1e-4f : -big, thermal ? 1e6f : big},
         {"effects.base_mass_kg", c->base_mass_kg, base ? 1e-4f : 0.0f, base ? 1e3f : 0.0f},
@@ -93,8 +96,8 @@ static float amplifier_with_bandwidth(const ss_effects_config_f32_t *cfg, const 
                                       float command_v, float dt_s)
 {
     const float tau = 1.0f / (6.28318531f * cfg->amp_bandwidth_hz);
-    const float slew = (cfg->slew_v_per_s > 0.0f) ? cfg->slew_v_per_s : INFINITY;
-    const float band = slew * tau; /* the lag past which the slew limit holds */
+    const float slew = cfg->slew_v_per_s; /* > 0: the config's check */
+    const float band = slew * tau;        /* the lag past which the slew limit holds */
     if (!(dt_s > 0.0f)) {
         return st->amp_v;
     }

@@ -8,7 +8,7 @@
 #include "ss_effects.h"
 #include "ss_inline.h"
 
-/* The drive with a slew limit, an amplifier bandwidth, creep or hysteresis on (ss_effects_f32.c). */
+/* The drive with a slew limit (and its bandwidth), creep or hysteresis on (ss_effects_f32.c). */
 float ss_effects_drive_shaped_f32(const ss_effects_config_f32_t *cfg, ss_effects_state_f32_t *st,
                                   float gain_m_per_v, float command_v, float dt_s);
 
@@ -17,8 +17,8 @@ SS_FORCE_INLINE float ss_effects_drive_inline_f32(const ss_effects_config_f32_t 
                                                   ss_effects_state_f32_t *st, float gain_m_per_v,
                                                   float command_v, float dt_s)
 {
-    if (cfg->slew_v_per_s == 0.0f && cfg->amp_bandwidth_hz == 0.0f && cfg->creep_ratio == 0.0f &&
-        cfg->hysteresis_alpha == 0.0f) {
+    /* a bandwidth needs a slew limit (ss_effects_config_check_f32): one test covers the amplifier */
+    if (cfg->slew_v_per_s == 0.0f && cfg->creep_ratio == 0.0f && cfg->hysteresis_alpha == 0.0f) {
         st->amp_v = command_v; /* the base model's ideal strain, the same product */
         st->amp_cmd_v = command_v;
         st->strain_m = command_v * gain_m_per_v;

@@ -237,16 +237,20 @@ static void test_amplifier_bandwidth(void **unused)
         (void)ss_effects_drive_f32(&e, &st, 4.4e-8f, 0.2f * (float)k, dt);
     }
     assert_close(8.0 - st.amp_v, 0.2e6 * tau, 1e-5);
-    /* without a slew limit: the plain first-order lag of a held step, exp(-t / tau) */
-    e.slew_v_per_s = 0.0f;
+    /* a slew limit too fast to act (1e12 V/s): the plain first-order lag of a held step */
+    e.slew_v_per_s = 1e12f;
     ss_effects_init_f32(&e, &st, 4.4e-8f, 0.0f);
     (void)ss_effects_drive_f32(&e, &st, 4.4e-8f, 10.0f, 1e-9f); /* the step, in 1 ns */
     for (int k = 1; k <= 5; ++k) {
         (void)ss_effects_drive_f32(&e, &st, 4.4e-8f, 10.0f, dt);
         assert_close(st.amp_v, 10.0 * (1.0 - exp(-(k * 1e-6 + 0.5e-9) / tau)), 2e-5);
     }
-    /* its range: 0 (unlimited) or at least 1 kHz */
+    /* its range: 0 (unlimited) or at least 1 kHz, and only beside a slew limit */
     e.amp_bandwidth_hz = 500.0f;
+    assert_int_equal(ss_effects_config_check_f32(&e, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "effects.amp_bandwidth_hz");
+    e.amp_bandwidth_hz = 160e3f;
+    e.slew_v_per_s = 0.0f;
     assert_int_equal(ss_effects_config_check_f32(&e, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "effects.amp_bandwidth_hz");
 }
