@@ -55,6 +55,7 @@ static ss_actuator_config_f32_t config_from(const ss_node_params_t *p)
     e->load_n = v[SS_NODE_P_LOAD];
     e->friction_gradient_per_m = v[SS_NODE_P_GRAD];
     e->slew_v_per_s = v[SS_NODE_P_SLEW];
+    e->amp_bandwidth_hz = v[SS_NODE_P_AMPBW];
     e->thermal_coeff_per_j = v[SS_NODE_P_TCOEF];
     e->thermal_tau_s = v[SS_NODE_P_TTAU];
     e->base_mass_kg = v[SS_NODE_P_BMASS];
@@ -62,7 +63,6 @@ static ss_actuator_config_f32_t config_from(const ss_node_params_t *p)
     e->base_damping_ratio = v[SS_NODE_P_BDAMP];
     e->sensor_scale_error = v[SS_NODE_P_SSCALE];
     c.dt_s = v[SS_NODE_P_DT];
-    e->amp_bandwidth_hz = v[SS_NODE_P_AMPBW];
     return c;
 }
 

@@ -107,19 +107,21 @@ static float amplifier_with_bandwidth(const ss_effects_config_f32_t *cfg, const 
     float left = dt_s;
     if (e > band || e < -band) {
         const float s = (e > 0.0f) ? slew : -slew;
-        const float t_in = (((e > 0.0f) ? band : -band) - e) / (r - s); /* > 0: moving in */
+        const float edge = (e > 0.0f) ? band : -band;
+        const float t_in = (edge - e) / (r - s); /* > 0: moving in */
         if (!(t_in > 0.0f) || t_in >= left) {
             return command_v - (e + (r - s) * left);
         }
-        e = (e > 0.0f) ? band : -band;
+        e = edge;
         left -= t_in;
     }
     if (target > band || target < -band) {
+        const float s = (target > 0.0f) ? slew : -slew;
         const float edge = (target > 0.0f) ? band : -band;
         /* ln((e - target) / (edge - target)), with its digits where the two are close */
         const float t_out = tau * log1pf((e - edge) / (edge - target));
         if (t_out < left) {
-            return command_v - (edge + (r - ((target > 0.0f) ? slew : -slew)) * (left - t_out));
+            return command_v - (edge + (r - s) * (left - t_out));
         }
     }
     /* target + (e - target) exp(-x) without the difference of the two: a short piece of a steep
