@@ -175,6 +175,10 @@ def main() -> int:
                     "causes": j["causes"],
                     "unexplained": j["unexplained"],
                     "rmse_over_noise": j["extended"]["validation_rmse_m"] / j["sensor_noise_m"],
+                    # the named causes' values as reported (refined: a slew limit's bandwidth)
+                    "params": {
+                        k: v for k, v in j["extended"].get("params", {}).items() if "." in k
+                    },
                     "wall_s": round(wall, 1),
                     "msteps": round(sum(counter.by_stage.values()) / 1e6, 2),
                     "msteps_by_stage": {

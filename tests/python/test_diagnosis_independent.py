@@ -84,13 +84,21 @@ def test_a_pair_that_takes_up_the_laws_misfit_is_not_named(tmp_path, executor):
 def test_slew_limit_is_found_where_the_outside_test_missed_it(tmp_path, executor):
     # the outside test's miss: a slew limit fitted to 3 % but ranked fifth behind a base model
     # calibrated to N = 22 N
-    truth, j = _run(tmp_path, "lugre", ("amplifier_slew_limit",), executor)
+    # (seed 102: 0.388 V/us, the slowest of seeds 100-104, whose bandwidth the final model keeps)
+    truth, j = _run(tmp_path, "lugre", ("amplifier_slew_limit",), executor, seed=102)
     named = [c for c in j["causes"] if c not in NOT_EFFECTS]
     assert named[:1] == ["amplifier_slew_limit"], j["causes"]
-    got = j["extended"]["params"]["amplifier_slew_limit.slew_v_per_s"]
-    want = truth["effects"]["amplifier_slew_limit"]["slew_v_per_s"]
-    assert got == pytest.approx(want, rel=0.05)
+    p, want = j["extended"]["params"], truth["effects"]["amplifier_slew_limit"]
+    assert p["amplifier_slew_limit.slew_v_per_s"] == pytest.approx(want["slew_v_per_s"], rel=0.05)
     assert j["gain"] > 0.9
+    # the amplifier's bandwidth behind the slew, fitted in the final model: within a factor of 2
+    # of the generator's 160 kHz. Its rounding of the slewed edge's corners lasts about tau =
+    # 1 us, the model's step, which biases it (144 kHz here, 217 kHz on seed 101; on seed 100 the
+    # same refit without it gains as much, and it is not kept: BENCHMARKS.md, "The amplifier's
+    # bandwidth in the final model")
+    bw = p.get("amplifier_slew_limit.amp_bandwidth_hz")
+    assert bw is not None and 0.5 < bw / want["bandwidth_hz"] < 2.0, p
+    assert not j["unexplained"]  # 1.99 x the noise with it, 4.8 x without
 
 
 @pytest.mark.full

@@ -13,7 +13,7 @@ import numpy as np
 from stickslip.diagnosis import fit as F
 from stickslip.diagnosis.fit import Evaluation, FitResult, Free, Model
 from stickslip.diagnosis.guards import FWD_SHARE, Verdict
-from stickslip.diagnosis.pipeline import _refined
+from stickslip.diagnosis.pipeline import _refined, _with_refine_params
 from stickslip.diagnosis.result import Candidate
 from stickslip.diagnosis.session import Session
 from stickslip.model import ActuatorParams, Effects
@@ -279,3 +279,74 @@ def test_a_first_cause_goes_on_from_another_law_s_calibration_only_when_it_ranks
         assert np.array_equal(got.jac, expected.jac)
         # the full first stages' costs only: LuGre's when it was the parent, LS's always
         assert set(got.first_stage_costs) == {"ls", parent.law}
+
+
+class _BandwidthAnswers(_Recorder):
+    """A recorder whose fits answer with a validation error `ratio` x the final model's when they
+    free a refinement parameter, `control` x without, and with `at_bound` (each fit's model is
+    its start)."""
+
+    def __init__(self, ratio: float, at_bound: tuple[str, ...], control: float = 1.0):
+        super().__init__()
+        self.ratio, self.at_bound, self.control = ratio, at_bound, control
+
+    def submit(self, fn, train, val, nominal, start, free, *rest):
+        self.fits.append((start, free))
+        n, k = 10_000, self.ratio if free.refine else self.control
+        f = FitResult(free, start, start.values(), 0.0, 0, at_bound=self.at_bound)
+        fu: Future = Future()
+        fu.set_result((f, Evaluation(0.0, 0.0, k * 3 * n, n)))
+        return fu
+
+
+def test_the_final_model_tries_the_amplifier_s_bandwidth_and_keeps_it_only_if_it_helps():
+    # the causes were chosen and checked with the slew alone (catalog.REFINE_PARAMS): the final
+    # model is fitted again with the bandwidth from 300 kHz, and that fit is kept only where it
+    # predicts the validation runs better than the final model and than the same fit without the
+    # bandwidth (a control: the further iterations alone may gain), with the bandwidth inside its
+    # bounds, removing half the error above the noise that the better of those two leaves (the
+    # final model here at 3 noise variances: 2 above the noise)
+    base = _cand(())
+    causes = ("amplifier_slew_limit",)
+    m = Model(NOMINAL, replace(EFFECTS, hysteresis_alpha=0.0, creep_ratio=0.0), causes=causes)
+    n = 10_000
+    for ratio, at_bound, control, kept in (
+        (0.5, (), 1.0, True),  # 75 % of the error above the noise
+        (0.5, (), 0.8, True),  # 64 % of what the control leaves
+        (0.8, (), 1.0, False),  # better, but 30 %: a little of everything
+        (1.0, (), 1.0, False),
+        (0.5, ("amp_bandwidth_hz",), 1.0, False),
+        (0.5, (), 0.5, False),
+    ):
+        s, _ = _session()
+        ex = _BandwidthAnswers(ratio, at_bound, control)
+        s.ex = ex
+        fr = FitResult(Free((), causes), m, m.values(), 0.0, 0)
+        final = s.cand(fr, Evaluation(0.0, 0.0, 3 * n, n))
+        final.parent, final.verdict = base, Verdict()
+        got = _with_refine_params(s, final)
+        (start, free), (control_start, control_free) = ex.fits
+        assert control_start is m and control_free == Free(("mu_s", "sigma0"), causes)
+        assert free.refine == ("amp_bandwidth_hz",) and free.causes == causes
+        assert start.effects.amp_bandwidth_hz == 3e5
+        assert start.effects.slew_v_per_s == EFFECTS.slew_v_per_s
+        assert got.causes == causes and got.verdict is final.verdict
+        assert (got is final) == (not kept)
+        assert got.fit.model.effects.amp_bandwidth_hz == (3e5 if kept else 0.0)
+        assert ("amplifier_slew_limit.amp_bandwidth_hz" in got.fit.model.values()) == kept
+        # the law's 7 parameters less the one held, the slew and, when kept, its bandwidth
+        assert got.k == 6 + 1 + int(kept)
+        # the bandwidth leaves with its slew limit: the C model refuses one without the other
+        off = got.fit.model.without("amplifier_slew_limit").effects
+        assert off.slew_v_per_s == 0.0 and off.amp_bandwidth_hz == 0.0
+
+
+def test_no_refinement_parameter_is_tried_before_the_final_model():
+    s, ex = _session()
+    base = _cand(())
+    for causes in (("amplifier_slew_limit",), ("external_load",)):
+        ex.fits.clear()
+        refined = _refined(s, _cand(causes, parent=base, verdict=Verdict()), base)
+        assert refined is not None and [f.refine for _, f in ex.fits] == [()]
+    final = _cand(("external_load",), parent=base, verdict=Verdict())
+    assert _with_refine_params(s, final) is final and not ex.fits[1:]

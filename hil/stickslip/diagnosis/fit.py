@@ -38,7 +38,16 @@ from ..model import (
     simulate,
     simulate_many,
 )
-from .catalog import BASE_FACTOR, CAUSE_PARAMS, CAUSE_START, Param, base_param
+from .catalog import (
+    BASE_FACTOR,
+    CAUSE_PARAMS,
+    CAUSE_START,
+    REFINE_PARAMS,
+    REFINE_START,
+    Param,
+    base_param,
+    cause_params,
+)
 
 MAX_DT_S = 1e-6  # the model's step: converged to 0.08 % per cycle (docs/model.md)
 # Fits and figures work on the measured positions anti-alias filtered and decimated to at most
@@ -192,7 +201,7 @@ class Model:
 
     def without(self, cause: str) -> Model:
         """The same model with one cause's effect switched off."""
-        off = {q.name: 0.0 for q in CAUSE_PARAMS[cause]}
+        off = {q.name: 0.0 for q in cause_params(cause)}
         return replace(
             self,
             effects=replace(self.effects, **off),
@@ -216,7 +225,19 @@ class Model:
         for c in self.causes:
             for q in CAUSE_PARAMS[c]:
                 out[f"{c}.{q.name}"] = float(getattr(self.effects, q.name))
+        for c, name in self.refined_params():
+            out[f"{c}.{name}"] = float(getattr(self.effects, name))
         return out
+
+    def refined_params(self) -> tuple[tuple[str, str], ...]:
+        """(cause, name) of each of its causes' REFINE_PARAMS that a refinement kept (set: not
+        0, which is off)."""
+        return tuple(
+            (c, q.name)
+            for c in self.causes
+            for q in REFINE_PARAMS.get(c, ())
+            if getattr(self.effects, q.name) != 0.0
+        )
 
 
 def slider_start_m(run: FitRun, effects: Effects) -> float:
@@ -442,10 +463,12 @@ def _predict_batch(
 
 @dataclass(frozen=True)
 class Free:
-    """What a fit frees: base parameters by name, and causes (each with all its parameters)."""
+    """What a fit frees: base parameters by name, causes (each with all its parameters) and, by
+    name, parameters of those causes fitted only in a refinement (catalog.REFINE_PARAMS)."""
 
     base: tuple[str, ...]
     causes: tuple[str, ...]
+    refine: tuple[str, ...] = ()
 
 
 def strides(runs: list[FitRun]) -> list[int]:
@@ -470,6 +493,8 @@ def specs_for(nominal: ActuatorParams, free: Free) -> list[Param]:
             specs.append(base_param(name, at_nominal.base_value(name)))
     for c in free.causes:
         specs.extend(CAUSE_PARAMS[c])
+    for c in free.causes:
+        specs.extend(p for p in REFINE_PARAMS.get(c, ()) if p.name in free.refine)
     return specs
 
 
@@ -636,8 +661,8 @@ class _Problem:
             if i < self.nb:
                 v = start.base_value(s.name)
             else:
-                cause = next(c for c in free.causes if s in CAUSE_PARAMS[c])
-                v = CAUSE_START.get(cause, {}).get(s.name, 0.0)
+                cause = next(c for c in free.causes if s in cause_params(c))
+                v = CAUSE_START.get(cause, {}).get(s.name, REFINE_START.get(s.name, 0.0))
                 if getattr(start.effects, s.name) != 0.0:
                     v = getattr(start.effects, s.name)
             t_lo, t_hi = s.bounds()

@@ -22,6 +22,8 @@ from .catalog import (
     FIT_FROM_NOMINAL,
     FRICTION_LAW,
     LAWS,
+    REFINE_PARAMS,
+    REFINE_START,
 )
 from .evidence import (
     UNEXPLAINED_RMSE_OVER_NOISE,
@@ -230,6 +232,7 @@ def diagnose(
         chosen, rounds = _select(s, base, singles)
         singles = rounds[0]  # with any the selection fitted later
         chosen = _backward(s, chosen)
+        chosen = _with_refine_params(s, chosen)
         timing["selection_s"] = time.perf_counter() - t0
     finally:
         if own:
@@ -514,6 +517,43 @@ def _refined(
         f"{100 * bar:.0f} %)"
     )
     return None
+
+
+def _with_refine_params(s: Session, final: Candidate) -> Candidate:
+    """The final model, or that model fitted again with its causes' REFINE_PARAMS freed from
+    REFINE_START. Beside it the same refit runs without them (a control: the further iterations
+    alone may gain). The refit with them is kept when it is better (Session.better) than the
+    final model and the control, with each of them inside its bounds, and when it removes the
+    share of the better one's error above the noise that a kept cause must carry (FINAL_SHARE,
+    UNEXPLAINED_FINAL_SHARE while the model stays unexplained: any flexible term takes a little
+    of a misfit). Our own generator's amplifier has no bandwidth; on its slew limit + thermal
+    drift 100 (the drift not found) and 101 a bandwidth fitted at 304 and 480 kHz removed 34 % and
+    17 % of the error; the independent generator's true 160 kHz, 56-77 % (seeds 101-103).
+    The causes were chosen and checked without them: in the slew's refinement, before the drift
+    was added (seeds 103, 104), the bandwidth took up some of it and the pair ended at 1.17 and
+    1.86 x the noise, against 1.00 and 1.01 x."""
+    extra = tuple(q.name for c in final.causes for q in REFINE_PARAMS.get(c, ()))
+    if not extra:
+        return final
+    s.say(f"refining {'+'.join(final.causes)} with {', '.join(extra)}")
+    m = final.fit.model
+    start = replace(m, effects=replace(m.effects, **{n: REFINE_START[n] for n in extra}))
+    base = s.free_base[final.law]
+    futs = [
+        s.submit_fit(start, Free(base, final.causes, extra), FIT_NFEV, grid=False),
+        s.submit_fit(m, Free(base, final.causes), FIT_NFEV, grid=False),
+    ]
+    alt, control = (s.cand(*fitted(fu), parent=final.parent) for fu in futs)
+    if any(n in alt.fit.at_bound for n in extra):
+        return final
+    if not (s.better(alt, final) and s.better(alt, control)):
+        return final
+    need = FINAL_SHARE if explained_enough(alt, s.sensor_noise_m) else UNEXPLAINED_FINAL_SHARE
+    without = min(final.mse_over_noise, control.mse_over_noise)
+    if share_removed(without, alt.mse_over_noise) < need:
+        return final
+    alt.verdict = final.verdict
+    return alt
 
 
 def _first_share_bar(causes: tuple[str, ...]) -> float:

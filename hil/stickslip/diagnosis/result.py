@@ -12,6 +12,7 @@ from .catalog import (
     BASE_LAW,
     CAUSE_PARAMS,
     FRICTION_LAW,
+    cause_params,
 )
 from .fit import (
     Evaluation,
@@ -223,7 +224,7 @@ def _json_name(name: str, causes: tuple[str, ...]) -> str:
     if name == "stribeck_excess":
         return "mu_s"
     for c in causes:
-        if any(p.name == name for p in CAUSE_PARAMS[c]):
+        if any(p.name == name for p in cause_params(c)):
             return f"{c}.{name}"
     return name
 

@@ -217,7 +217,7 @@ class Session:
             self.free_base[f.model.law] = f.free.base
         law = f.model.law
         k = len(LAW_PARAMS[law]) - len(self.held.get(law, ()))
-        k += sum(len(CAUSE_PARAMS[c]) for c in f.causes)
+        k += sum(len(CAUSE_PARAMS[c]) for c in f.causes) + len(f.model.refined_params())
         return Candidate(f, v, bic(v, self.noise_m, k), parent, held=self.held[law], k=k)
 
     def submit_fit(
