@@ -237,7 +237,7 @@ CAUSE_PARAMS: dict[str, tuple[Param, ...]] = {
 # 22-82 nm per run at its own parameters; fitted with the slew from the screen on, it tightened
 # every slew single (4.6-6.0 -> 1.4-3.7 x the noise, the rate within 0.1 %) but lost two of five
 # slew + asymmetry pairs, and fitted in the slew's refinement it took up part of a thermal drift
-# added after it (BENCHMARKS.md, "The amplifier's bandwidth"). Tried from REFINE_START and kept
+# added after it (BENCHMARKS.md, "The amplifier's bandwidth"). Tried from its ref and kept
 # only where it predicts the validation runs better than the final model and than the same refit
 # without it, and ends inside its bounds: at the upper bound the data show no bandwidth the model
 # can resolve.
@@ -247,7 +247,6 @@ REFINE_PARAMS: dict[str, tuple[Param, ...]] = {
     # slew + thermal drift 101, no bandwidth in its amplifier: 1.38 MHz, 1.8 -> 1.04 x the noise)
     "amplifier_slew_limit": (Param("amp_bandwidth_hz", "log", 3e5, 2e4, 1e6, phys=(2e4, 1e6)),),
 }
-REFINE_START: dict[str, float] = {"amp_bandwidth_hz": 3e5}
 
 
 def cause_params(cause: str) -> tuple[Param, ...]:

@@ -43,7 +43,6 @@ from .catalog import (
     CAUSE_PARAMS,
     CAUSE_START,
     REFINE_PARAMS,
-    REFINE_START,
     Param,
     base_param,
     cause_params,
@@ -662,7 +661,9 @@ class _Problem:
                 v = start.base_value(s.name)
             else:
                 cause = next(c for c in free.causes if s in cause_params(c))
-                v = CAUSE_START.get(cause, {}).get(s.name, REFINE_START.get(s.name, 0.0))
+                # a refinement parameter (a scale, never zero) starts at its ref
+                off = 0.0 if s in CAUSE_PARAMS[cause] else s.ref
+                v = CAUSE_START.get(cause, {}).get(s.name, off)
                 if getattr(start.effects, s.name) != 0.0:
                     v = getattr(start.effects, s.name)
             t_lo, t_hi = s.bounds()

@@ -23,7 +23,6 @@ from .catalog import (
     FRICTION_LAW,
     LAWS,
     REFINE_PARAMS,
-    REFINE_START,
 )
 from .evidence import (
     UNEXPLAINED_RMSE_OVER_NOISE,
@@ -521,7 +520,7 @@ def _refined(
 
 def _with_refine_params(s: Session, final: Candidate) -> Candidate:
     """The final model, or that model fitted again with its causes' REFINE_PARAMS freed from
-    REFINE_START. Beside it the same refit runs without them (a control: the further iterations
+    their ref. Beside it the same refit runs without them (a control: the further iterations
     alone may gain). The refit with them is kept when it is better (Session.better) than the
     final model and the control, with each of them inside its bounds, and when it removes the
     share of the better one's error above the noise that a kept cause must carry (FINAL_SHARE,
@@ -532,12 +531,13 @@ def _with_refine_params(s: Session, final: Candidate) -> Candidate:
     The causes were chosen and checked without them: in the slew's refinement, before the drift
     was added (seeds 103, 104), the bandwidth took up some of it and the pair ended at 1.17 and
     1.86 x the noise, against 1.00 and 1.01 x."""
-    extra = tuple(q.name for c in final.causes for q in REFINE_PARAMS.get(c, ()))
-    if not extra:
+    params = [q for c in final.causes for q in REFINE_PARAMS.get(c, ())]
+    if not params:
         return final
+    extra = tuple(q.name for q in params)
     s.say(f"refining {'+'.join(final.causes)} with {', '.join(extra)}")
     m = final.fit.model
-    start = replace(m, effects=replace(m.effects, **{n: REFINE_START[n] for n in extra}))
+    start = replace(m, effects=replace(m.effects, **{q.name: q.ref for q in params}))
     base = s.free_base[final.law]
     futs = [
         s.submit_fit(start, Free(base, final.causes, extra), FIT_NFEV, grid=False),
