@@ -63,11 +63,11 @@ def tag_batches() -> None:
     screen, 1: the next, ...)."""
     fit_pending = SE.Session.fit_pending
 
-    def tagged(self, parent):
+    def tagged(self, parent, **kw):
         calls = self.__dict__.setdefault("_batches", collections.Counter())
         batch = calls[id(parent)]
         calls[id(parent)] += 1
-        out = fit_pending(self, parent)
+        out = fit_pending(self, parent, **kw)
         for i, c in enumerate(out):
             c.batch = batch
             c.rank = batch * SE.TOP_FIT + i  # among the causes its screen found promising

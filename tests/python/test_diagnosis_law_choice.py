@@ -345,6 +345,36 @@ def test_a_strong_first_cause_that_fails_only_the_left_out_families_is_judged_un
     assert s.under_other_law(cand, cal["ls"]) is None
 
 
+def test_the_batch_after_a_failed_first_round_fits_only_causes_that_could_carry_their_share():
+    """pipeline._select: when every first candidate fails, the next pending causes are fitted
+    only if the screen predicts they could carry what the final check demands (could_carry);
+    clean LS-b 101 fitted a position and a base screened at 15 % and 12 %, 17 s of 60."""
+    n = 1000
+    points = {
+        "position_dependent_friction": {"friction_gradient_per_m": 300.0},
+        "external_load": {"load_n": 0.2},
+        "asymmetric_friction": {"friction_asymmetry": 0.05},
+    }
+
+    def cause(name: str, mse: float) -> Screened:  # the base at 100 noise variances
+        return Screened(name, points[name], mse * n, n, 100.0 * n, 1.0)
+
+    weak, strong, weaker = (
+        cause("position_dependent_friction", 85.0),  # 15 %
+        cause("external_load", 50.0),  # 49 %: predicted unexplained, 80 % due, 40 % screened
+        cause("asymmetric_friction", 88.0),  # 12 %
+    )
+    s, ex, base = _session()
+    s.pending[id(base)] = (base, [weak, strong, weaker])
+    s.fit_pending(base, carrying=True)
+    assert len(ex.jobs) == 1  # the load alone
+    assert s.pending[id(base)][1] == [weak, weaker]  # kept pending, in their order
+    s.fit_pending(base, carrying=True)
+    assert len(ex.jobs) == 1  # nothing left that could carry: no fit
+    s.fit_pending(base)  # without the gate (a first batch) both are fitted
+    assert len(ex.jobs) == 3 and s.pending[id(base)][1] == []
+
+
 def test_first_causes_are_fitted_from_nominal_when_the_calibration_predicts_worse_than_it():
     # own load + hysteresis 102: the calibrations predicted the left-out runs at 2.05-2.71 um,
     # nominal at 1.83 um; the load fitted on them stopped at 1.2 um, from nominal at 167 nm

@@ -378,10 +378,16 @@ class Session:
         need = FINAL_SHARE if explained else UNEXPLAINED_FINAL_SHARE
         return predicted_share(x) >= SCREEN_SHARE_OF_NEED * need
 
-    def fit_pending(self, parent: Candidate) -> list[Candidate]:
-        """Fit the next TOP_FIT promising causes screened on parent (none left: [])."""
+    def fit_pending(self, parent: Candidate, carrying: bool = False) -> list[Candidate]:
+        """Fit the next TOP_FIT promising causes screened on parent (none left: []); with
+        carrying, only those that could carry their share (could_carry)."""
         parent, worth = self.pending.get(id(parent), (parent, []))
-        batch, self.pending[id(parent)] = worth[:TOP_FIT], (parent, worth[TOP_FIT:])
+        batch = [x for x in worth if not carrying or self.could_carry(x)][:TOP_FIT]
+        rest = [x for x in worth if not any(x is b for b in batch)]
+        if carrying and len(batch) < min(TOP_FIT, len(worth)):
+            few = ", ".join(f"{x.cause} ({100 * predicted_share(x):.0f} %)" for x in rest)
+            self.say(f"not fitted, screened to remove too little of the error: {few}")
+        self.pending[id(parent)] = (parent, rest)
         futs = []
         for x in batch:
             m = parent.fit.model
