@@ -102,14 +102,19 @@ def test_slew_limit_is_found_where_the_outside_test_missed_it(tmp_path, executor
 
 
 @pytest.mark.full
-@pytest.mark.parametrize("effect", ["thermal_drift", "position_dependent_friction"])
+@pytest.mark.parametrize(
+    "effect", ["thermal_drift", "position_dependent_friction", "piezo_hysteresis"]
+)
 def test_a_single_effect_on_a_gms_contact_is_named(tmp_path, executor, effect):
     # a GMS contact (the generator's default law). The thermal drift: our GMS without
     # micro-damping and with a fixed presliding curve calibrated to 70-200 x the noise there, and
     # it was `none` (BENCHMARKS.md, "GMS with micro-damping and a calibrated presliding shape").
     # The position (+1 044 /m, the normal force up 68 % over the long run): probed at 300 /m
     # alone, the screen put it at 205 nm against the calibration's 319 nm, it was never fitted,
-    # and a thermal drift at 98 nm was named; probed over its grid of gradients it is fitted
+    # and a thermal drift at 98 nm was named; probed over its grid of gradients it is fitted.
+    # The hysteresis: alpha 0.216 / 0.152 / 0.0435 under GMS / LS / LuGre, refused as the laws'
+    # misfit (4.97 x) until the law test left out LuGre, whose first stage with it costs 3.5 x
+    # GMS's (pipeline.LAW_FIT_RATIO)
     _, j = _run(tmp_path, "gms", (effect,), executor, seed=132)
     named = [c for c in j["causes"] if c not in NOT_EFFECTS]
     assert named[:1] == [effect], j["causes"]
