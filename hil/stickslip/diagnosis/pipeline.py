@@ -344,8 +344,8 @@ def _select(s: Session, base: Candidate, singles: list[Candidate]):
         if accepted is None:
             # every fitted candidate failed: fit the next promising ones of the same parents
             # (the screen ranks to first order; a cause it placed fourth may be the one) that
-            # could carry the share the final check demands, the limit tested
-            # first: a batch fitted past it would never be judged
+            # could carry the share the final check demands, the limit tested first: a batch
+            # fitted past it would never be judged
             extra_batches += 1
             more: list[Candidate] = []
             if extra_batches <= MAX_EXTRA_BATCHES:
