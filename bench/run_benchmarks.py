@@ -149,7 +149,7 @@ def lsoda_vs_c(limit: float = 1e-3) -> None:
 
     pair, fewest = None, None
     for dt in (1e-6, 1.5e-6, 2e-6, 2.5e-6, 3e-6):
-        for n in (2, 3, 4):
+        for n in (2, 3, 4, 6, 8):
             r = coarse_run(dt, n)
             err = worst_error(r.per_cycle_steps(), truth)
             steps = r.meta["model_steps"]

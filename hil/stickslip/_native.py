@@ -152,10 +152,13 @@ class ActuatorCoarse(C.Structure):
 
     _fields_ = [
         ("phi", C.c_float * 4),
+        ("phi_mid", C.c_float * 4),
         ("dt_s", C.c_float),
         ("n", C.c_uint32),
         ("v_rel_max_m_per_s", C.c_float),
         ("v_ring_max_m_per_s", C.c_float),
+        ("v_rel_mid_max_m_per_s", C.c_float),
+        ("v_ring_mid_max_m_per_s", C.c_float),
     ]
 
 

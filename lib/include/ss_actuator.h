@@ -81,38 +81,52 @@ ss_status_t ss_actuator_step_corner_f32(const ss_actuator_config_f32_t *cfg, ss_
 ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
                                       const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst);
 
-/* Coarse steps (issue 17, docs/model.md "Coarse steps while the contact sticks"): n steps of dt
- * taken as one step of n dt where that step is as accurate as the fine ones. That is where the
- * contact sticks and the rod's 69 kHz ring has died down (the ring sampled at 4 us and more puts
- * 0.15-1 % into a cycle's step) and the drive is straight. LuGre only: under LS the slider rings
- * on the contact's tangent stiffness through the whole slow edge, and coarse steps of 3 or 4
- * there cost 0.14-0.38 % for few steps saved. The bounds: the relative velocity (2.5 x Table I's
- * Stribeck velocity), and the rod's velocity off the piezo's ideal rate (0.11 nm of 69 kHz ring). */
+/* Coarse steps (issue 17, docs/model.md "Coarse steps while the contact sticks"): up to n steps of
+ * dt taken as one step where that step is as accurate as the fine ones. That is where the contact
+ * sticks and the rod's 69 kHz ring has died down and the drive is straight. A coarse step holds
+ * the friction it starts with in the rod's exact flow and kicks only its change, so that it does
+ * not ring the rod (the fine step's kicks, taken at 8 us, put 0.2-0.7 % into a cycle's step; held,
+ * 0.07 %). LuGre only: under LS the slider rings on the contact's tangent stiffness through the
+ * whole slow edge, and coarse steps of 3 or 4 there cost 0.14-0.38 % for few steps saved. The
+ * bounds: the relative velocity (2.5 x Table I's Stribeck velocity), and the rod's velocity off
+ * the piezo's ideal rate (0.11 nm of 69 kHz ring). */
 #define SS_COARSE_V_REL_MAX_M_PER_S 1e-3f
 #define SS_COARSE_V_RING_MAX_M_PER_S 5e-5f
+/* Between a stick and a slip the contact rings on its bristles at its 4 kHz mode: there a step of
+ * 2 dt, in the coarse step's form, holds as well (the ring's 120 points a period at 1 us; the
+ * rod's 69 kHz mode turns 0.87 rad in it). Its bounds: the relative velocity (below the slip after
+ * a fall, -21 mm/s on the paper's drive) and the rod's ring (0.46 nm). */
+#define SS_COARSE_V_REL_MID_MAX_M_PER_S 5e-3f
+#define SS_COARSE_V_RING_MID_MAX_M_PER_S 2e-4f
 
 /* Made by ss_actuator_coarse_init_f32 from the actuator's config: init it again after a change of
  * the config's dt, piezo or rod (its flow is theirs). */
 typedef struct {
-    float phi[4];             /* the rod's flow over n dt */
-    float dt_s;               /* n dt */
-    uint32_t n;               /* steps of dt in a coarse step, [2, 64] */
-    float v_rel_max_m_per_s;  /* the contact sticks: |v_rod - v_slider| below this */
-    float v_ring_max_m_per_s; /* the rod is quiet: |v_rod - the piezo's ideal rate| below this */
+    float phi[4];                 /* the rod's flow over n dt */
+    float phi_mid[4];             /* ... and over 2 dt */
+    float dt_s;                   /* n dt */
+    uint32_t n;                   /* steps of dt in a coarse step, [2, 64] */
+    float v_rel_max_m_per_s;      /* the contact sticks: |v_rod - v_slider| below this */
+    float v_ring_max_m_per_s;     /* the rod is quiet: |v_rod - the piezo's ideal rate| below this */
+    float v_rel_mid_max_m_per_s;  /* a step of 2 dt: the contact rings, |v_rod - v_slider| below this */
+    float v_ring_mid_max_m_per_s; /* ... and the rod's ring below this */
 } ss_actuator_coarse_f32_t;
 
 /* The coarse steps for n steps of cfg's dt, with the bounds above (chosen on Table I at dt = 1 us,
- * n = 4: the worst per-cycle error over issue 17's drive matrix 0.032 %, 0.40 model steps a
- * microsecond; bench/step_study.py --coarse 4). SS_ERR_RANGE with bad_field "friction_model" for
+ * n = 4; at n = 8 the worst per-cycle error over issue 17's drive matrix is 0.069 %, 0.40 model
+ * steps a microsecond, 0.38 on the paper's drive; at 12 and 16 it passes 0.1 %:
+ * bench/step_study.py --coarse 8). SS_ERR_RANGE with bad_field "friction_model" for
  * a law other than LuGre, "coarse_n" for n outside [2, 64] or n dt past the config's range of dt;
  * the config's own errors as ss_actuator_config_check_f32. */
 ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uint32_t n,
                                         ss_actuator_coarse_f32_t *co, const char **bad_field);
 
-/* Advance by one step of cfg's dt, or by co->n of them in one coarse step where the drive is
- * straight over them (ss_waveform_straight_f32), the contact sticks, the rod is quiet, and
- * co->n <= max_steps (so that a run can end, or record a row, on its grid). *taken gets the steps
- * of dt taken (st->steps counts them too). co may be NULL: always one step. */
+/* Advance by one step of cfg's dt, or by m = min(co->n, max_steps) >= 2 of them in one coarse step
+ * where the drive is straight over them (ss_waveform_straight_f32), the contact sticks and the rod
+ * is quiet (max_steps: so that a run can end, or record a row, on its grid; a step shorter than
+ * co->n and 2 makes its rod flow on the way), or by 2 of them where the contact rings within the
+ * middle bounds. *taken gets the steps of dt taken (st->steps counts them too). co may be NULL:
+ * always one step. */
 ss_status_t ss_actuator_coarse_step_f32(const ss_actuator_config_f32_t *cfg,
                                         const ss_actuator_coarse_f32_t *co, ss_actuator_state_f32_t *st,
                                         const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,

@@ -267,7 +267,7 @@ def test_per_cycle_steps_do_not_depend_on_where_the_grid_cuts_the_period():
 
 def test_coarse_steps_keep_the_rows_and_the_per_cycle_step():
     # LuGre on the paper's drive with coarse steps of 4 while the contact sticks: under half the
-    # model steps (0.473 a microsecond measured, bench/step_study.py --coarse 4), the same rows on
+    # model steps (0.377 a microsecond measured, bench/step_study.py --coarse 4), the same rows on
     # the 1 us grid, each cycle's step within issue 17's 0.1 % of the fine run's
     w = Sawtooth(cycles=5)
     fine = simulate(w, model="lugre", decimation=4)
@@ -286,7 +286,9 @@ def test_coarse_steps_keep_the_rows_and_the_per_cycle_step():
     # measured on this drive against the converged float run, bench/step_study.py --variant q)
     q = simulate(w, model="lugre", decimation=4, coarse_steps=4, variant="q")
     np.testing.assert_array_equal(q.t_s, fine.t_s)
-    assert abs(q.meta["model_steps"] / coarse.meta["model_steps"] - 1) < 0.05
+    # (q takes coarse steps of 4 on the rows only, in the fine step's form; the float run also
+    # 2 dt where the contact rings, and a shorter coarse step up to the next row: fewer)
+    assert coarse.meta["model_steps"] < q.meta["model_steps"] < 0.5 * (len(fine.t_s) - 1) * 4
     assert np.max(np.abs(q.per_cycle_steps()[1:] / s - 1)) < 1e-2
     with pytest.raises(ValueError, match="sampled drive"):
         simulate(
