@@ -8,8 +8,6 @@
 #include "ss_port_cortex_m.h"
 
 #define BENCH_STEPS 20000u
-#define BENCH_COARSE_N                                                                                       \
-    8u /* LuGre's coarse steps: 0.065 % over the drive matrix, bench/step_study.py --coarse 8 */
 
 static void print(const ss_port_link_t *link, const char *s)
 {
@@ -62,6 +60,9 @@ int main(void)
     /* each law at the longest step at which it holds issue 17's 0.1 % a cycle over the drive matrix
      * (bench/step_study.py, docs/model.md): LS 1.5 us, LuGre 1 us */
     static const float step_s[2] = {1.5e-6f, 1.0e-6f};
+    /* and the coarse steps' longest at which each holds it (bench/step_study.py --coarse N):
+     * LS 4 (0.064 %), LuGre 8 (0.065 %) */
+    static const uint32_t coarse_n[2] = {4u, 8u};
     static ss_actuator_state_f32_t st;
     char line[160];
     for (int m = 0; m < 2; ++m) {
@@ -87,27 +88,26 @@ int main(void)
                        (unsigned long)(player_ns / BENCH_STEPS));
         print(link, line);
         print_merit(link, names[m], (double)((t2 - t1) - player_ns), cfg.dt_s, ""); /* shift=0: one a ns */
-        if (m != SS_FRICTION_LUGRE) {
-            continue;
-        }
-        /* LuGre with coarse steps of up to 8 where the contact sticks (docs/model.md): the same
-         * BENCH_STEPS steps of model time in fewer model steps; the player advanced every step of
-         * dt but read once a model step */
+        /* with coarse steps of up to coarse_n[m] where the contact sticks, 2 where it rings
+         * (docs/model.md): the same BENCH_STEPS steps of model time in fewer model steps; the
+         * player advanced every step of dt but read once a model step */
         ss_actuator_coarse_f32_t co;
-        (void)ss_actuator_coarse_init_f32(&cfg, BENCH_COARSE_N, &co, NULL);
+        (void)ss_actuator_coarse_init_f32(&cfg, coarse_n[m], &co, NULL);
         (void)ss_waveform_init_f32(&w, cfg.dt_s, &ws);
         (void)ss_actuator_init_f32(&cfg, &st, 0.0f);
         uint32_t model_steps = 0;
         const uint64_t t3 = link->time_ns(link->ctx);
-        (void)ss_actuator_run_coarse_f32(&cfg, &co, &st, &w, &ws, BENCH_STEPS, BENCH_COARSE_N, NULL, &rows,
+        (void)ss_actuator_run_coarse_f32(&cfg, &co, &st, &w, &ws, BENCH_STEPS, coarse_n[m], NULL, &rows,
                                          &model_steps);
         const uint64_t t4 = link->time_ns(link->ctx);
         const double value_ns = (double)(player_ns - advance_ns) / BENCH_STEPS;
-        (void)snprintf(line, sizeof line, "bench lugre coarse %u: %lu model steps for %lu steps of dt\n",
-                       (unsigned)BENCH_COARSE_N, (unsigned long)model_steps, (unsigned long)BENCH_STEPS);
+        char name[32];
+        (void)snprintf(name, sizeof name, "%s coarse %lu", names[m], (unsigned long)coarse_n[m]);
+        (void)snprintf(line, sizeof line, "bench %s: %lu model steps for %lu steps of dt\n", name,
+                       (unsigned long)model_steps, (unsigned long)BENCH_STEPS);
         print(link, line);
-        print_merit(link, "lugre coarse 8", (double)(t4 - t3) - (double)advance_ns - value_ns * model_steps,
-                    cfg.dt_s, " (coarse steps of up to 8)");
+        print_merit(link, name, (double)(t4 - t3) - (double)advance_ns - value_ns * model_steps, cfg.dt_s,
+                    " (coarse steps)");
     }
     ss_cortex_m_exit(0);
     return 0;

@@ -86,18 +86,21 @@ ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_ac
  * sticks and the rod's 69 kHz ring has died down and the drive is straight. A coarse step holds
  * the friction it starts with in the rod's exact flow and kicks only its change, so that it does
  * not ring the rod (the fine step's kicks, taken at 8 us, put 0.2-0.7 % into a cycle's step; held,
- * 0.07 %). LuGre only: under LS the slider rings on the contact's tangent stiffness through the
- * whole slow edge, and coarse steps of 3 or 4 there cost 0.14-0.38 % for few steps saved. The
- * bounds: the relative velocity (2.5 x Table I's Stribeck velocity), and the rod's velocity off
- * the piezo's ideal rate (0.11 nm of 69 kHz ring). */
+ * 0.07 %). LuGre and LS (with its turning point inside the step); not GMS. The bounds: the
+ * relative velocity (2.5 x Table I's Stribeck velocity), and the rod's velocity off the piezo's
+ * ideal rate (0.11 nm of 69 kHz ring). */
 #define SS_COARSE_V_REL_MAX_M_PER_S 1e-3f
 #define SS_COARSE_V_RING_MAX_M_PER_S 5e-5f
-/* Between a stick and a slip the contact rings on its bristles at its 4 kHz mode: there a step of
- * 2 dt, in the coarse step's form, holds as well (the ring's 120 points a period at 1 us; the
- * rod's 69 kHz mode turns 0.87 rad in it). Its bounds: the relative velocity (below the slip after
- * a fall, -21 mm/s on the paper's drive) and the rod's ring (0.46 nm). */
+/* Between a stick and a slip the contact rings at its 4 kHz mode (LuGre: on its bristles; LS: on
+ * its presliding stiffness, through the whole slow edge): there a step of 2 dt, in the coarse
+ * step's form, holds as well (the ring's 120 points a period at 1 us; the rod's 69 kHz mode turns
+ * 0.87 rad in it). Its bounds: the relative velocity (below the slip after a fall, -21 mm/s on
+ * the paper's drive) and the rod's ring (LuGre 0.46 nm, LS 1.2 nm); each law's chosen on a grid
+ * inside the region that holds 0.1 % over issue 17's drive matrix (docs/model.md). */
 #define SS_COARSE_V_REL_MID_MAX_M_PER_S 5e-3f
 #define SS_COARSE_V_RING_MID_MAX_M_PER_S 2e-4f
+#define SS_COARSE_LS_V_REL_MID_MAX_M_PER_S 1e-2f
+#define SS_COARSE_LS_V_RING_MID_MAX_M_PER_S 5e-4f
 
 /* Made by ss_actuator_coarse_init_f32 from the actuator's config: init it again after a change of
  * the config's dt, piezo or rod (its flow is theirs). */
@@ -112,12 +115,12 @@ typedef struct {
     float v_ring_mid_max_m_per_s; /* ... and the rod's ring below this */
 } ss_actuator_coarse_f32_t;
 
-/* The coarse steps for n steps of cfg's dt, with the bounds above (chosen on Table I at dt = 1 us,
- * n = 4; at n = 8 the worst per-cycle error over issue 17's drive matrix is 0.069 %, 0.40 model
- * steps a microsecond, 0.38 on the paper's drive; at 12 and 16 it passes 0.1 %:
- * bench/step_study.py --coarse 8). SS_ERR_RANGE with bad_field "friction_model" for
- * a law other than LuGre, "coarse_n" for n outside [2, 64] or n dt past the config's range of dt;
- * the config's own errors as ss_actuator_config_check_f32. */
+/* The coarse steps for n steps of cfg's dt, with the bounds above (chosen on Table I: LuGre at
+ * dt = 1 us, n = 8, worst per-cycle error over issue 17's drive matrix 0.065 %, 0.31 model steps a
+ * microsecond, 12 and 16 pass 0.1 %; LS at 1.5 us, n = 4, 0.064 %, 0.41; bench/step_study.py
+ * --coarse N). SS_ERR_RANGE with bad_field "friction_model" for GMS, "coarse_n" for n outside
+ * [2, 64] or n dt past the config's range of dt; the config's own errors as
+ * ss_actuator_config_check_f32. */
 ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uint32_t n,
                                         ss_actuator_coarse_f32_t *co, const char **bad_field);
 

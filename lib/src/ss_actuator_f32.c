@@ -640,7 +640,7 @@ ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uin
     if (status != SS_OK) {
         return status;
     }
-    if (cfg->friction_model != SS_FRICTION_LUGRE) {
+    if (cfg->friction_model == SS_FRICTION_GMS) {
         *bad = "friction_model";
         return SS_ERR_RANGE;
     }
@@ -653,8 +653,9 @@ ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uin
     co->dt_s = dt;
     co->v_rel_max_m_per_s = SS_COARSE_V_REL_MAX_M_PER_S;
     co->v_ring_max_m_per_s = SS_COARSE_V_RING_MAX_M_PER_S;
-    co->v_rel_mid_max_m_per_s = SS_COARSE_V_REL_MID_MAX_M_PER_S;
-    co->v_ring_mid_max_m_per_s = SS_COARSE_V_RING_MID_MAX_M_PER_S;
+    const int ls = cfg->friction_model == SS_FRICTION_LS;
+    co->v_rel_mid_max_m_per_s = ls ? SS_COARSE_LS_V_REL_MID_MAX_M_PER_S : SS_COARSE_V_REL_MID_MAX_M_PER_S;
+    co->v_ring_mid_max_m_per_s = ls ? SS_COARSE_LS_V_RING_MID_MAX_M_PER_S : SS_COARSE_V_RING_MID_MAX_M_PER_S;
     rod_flow(cfg, dt, co->phi);
     rod_flow(cfg, 2.0f * cfg->dt_s, co->phi_mid);
     return SS_OK;
@@ -714,11 +715,12 @@ SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg
     c.inv_mr = 1.0f / cfg->rod_mass_kg;
     c.inv_mc = 1.0f / cfg->slider_mass_kg;
     c.v_start = st->v_rod_m_per_s - st->v_slider_m_per_s;
-    c.turn_m = 0.0f; /* LuGre: no turning point */
+    c.turn_m = 0.0f;
     c.turn_frac = 0.0f;
     c.f0 = f0;
 
-    st->v_slider_m_per_s += (f0 + load) * c.inv_mc * half;
+    const float kick_dv = (f0 + load) * c.inv_mc * half; /* the opening kick's relative dv */
+    st->v_slider_m_per_s += kick_dv;
     const float shift = f0 / cfg->piezo_stiffness_n_per_m;
     const float a0 = st->x_p_m - shift; /* no base: its position stays 0 */
     const float x_rod0 = st->x_rod_m;
@@ -727,6 +729,16 @@ SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg
     rod_drift(cfg, phi, dt, a0, x_p1 - shift, 0.0f, &st->x_rod_m, &st->v_rod_m_per_s);
     const float dx_slider = st->v_slider_m_per_s * dt;
     c.dx_rel = (st->x_rod_m - x_rod0) - dx_slider;
+    if (cfg->friction_model == SS_FRICTION_LS) {
+        /* LS's turning point inside the step, as step_start finds it (the closing kick taken as
+         * the opening one's): the slider's 4 kHz ring on the contact turns the motion in a stick */
+        const float p1 = (st->v_rod_m_per_s - st->v_slider_m_per_s) - kick_dv;
+        const float frac = c.v_start / (c.v_start - p1);
+        if (c.v_start * p1 < 0.0f && frac < 1.0f) {
+            c.turn_frac = frac;
+            c.turn_m = 0.5f * c.v_start * frac * dt;
+        }
+    }
     position_add(&st->x_slider, dx_slider);
     st->x_p_m = x_p1;
     st->drive_v = drive_v;

@@ -295,6 +295,10 @@ ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t
     if (status != SS_OK) {
         return status;
     }
+    if (in->friction_model != SS_FRICTION_LUGRE) { /* the q family's coarse step is LuGre's */
+        *bad = "friction_model";
+        return SS_ERR_RANGE;
+    }
     ss_actuator_config_f32_t at_n = *in;
     at_n.dt_s = co.dt_s;
     status = ss_actuator_config_to_q(&at_n, &out->cfg, bad);

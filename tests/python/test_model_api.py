@@ -277,9 +277,9 @@ def test_coarse_steps_keep_the_rows_and_the_per_cycle_step():
     np.testing.assert_array_equal(coarse.drive_v, fine.drive_v)
     s, f = coarse.per_cycle_steps()[1:], fine.per_cycle_steps()[1:]
     assert np.max(np.abs(s / f - 1)) < 1e-3
-    # LS's slider rings through the slow edge: refused, by name
+    # GMS's: not measured, refused by name (LS's are measured: bench/step_study.py, C tests)
     with pytest.raises(ValueError, match="friction_model"):
-        simulate(w, model="ls", coarse_steps=4)
+        simulate(w, model="gms", coarse_steps=4)
     with pytest.raises(ValueError, match="coarse_n"):
         simulate(w, model="lugre", coarse_steps=100)
     # the q family's: the same rows, each cycle within the q family's 1 % of the float's (0.002 %
