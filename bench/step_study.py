@@ -9,11 +9,13 @@ With --variant q the fixed-point core runs the steps, against the same float ref
     PYTHONPATH=hil .venv/bin/python bench/step_study.py [--steps-us 0.5,1,1.25,2] [--variant q]
         [--models ls,lugre,gms] [--param piezo_damping_kg_per_s=62 ...]
 
---coarse N runs the steps with coarse steps of N where the contact sticks (LuGre; a row every N
-steps, docs/model.md "Coarse steps while the contact sticks") and prints each drive's error and
-model steps per microsecond:
+--coarse N runs the steps with coarse steps of up to N where the contact sticks, 2 where it rings
+(LuGre, LS; a row every N steps, docs/model.md "Coarse steps while the contact sticks") and prints
+each drive's error and model steps per microsecond (issue 17's figures: LuGre 8 at 1 us, LS 4 at
+1.5 us):
 
-    PYTHONPATH=hil .venv/bin/python bench/step_study.py --models lugre --steps-us 1 --coarse 4
+    PYTHONPATH=hil .venv/bin/python bench/step_study.py --models lugre --steps-us 1 --coarse 8
+    PYTHONPATH=hil .venv/bin/python bench/step_study.py --models ls --steps-us 1.5 --coarse 4
 
 --param sets an actuator parameter (ActuatorParams' names) for every run, reference included: an
 experiment on what limits the step (docs/model.md), not the criterion, which is Table I's.
@@ -90,7 +92,7 @@ def main() -> None:
     )
     ap.add_argument("--models", default="ls,lugre", help="laws, comma-separated (ls, lugre, gms)")
     ap.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
-    ap.add_argument("--coarse", type=int, default=1, metavar="N", help="coarse steps of N (LuGre)")
+    ap.add_argument("--coarse", type=int, default=1, metavar="N", help="coarse steps of up to N")
     a = ap.parse_args()
     params = parse_params(a.param)
     models = a.models.split(",")
