@@ -1,6 +1,6 @@
 """The fixed-point bench's configs (fw/bench_q_config.h): Table I at the step at which LS holds
 issue 17's 0.1 % a cycle (bench/step_study.py --variant q: 0.070 % at 1.5 us), and LuGre's coarse
-steps of 4 at 1 us (ss_actuator_coarse_to_q; --variant q --coarse 4: 0.032 %), through the host
+steps of 4 at 1 us (ss_actuator_coarse_to_q; --variant q --coarse 4: 0.040 %), through the host
 converter (in double), which the integer-only bench image does not link.
 tests/python/test_firmware_q.py checks that the committed header is what this prints.
 

@@ -92,10 +92,52 @@
         .contact_lag_q30 = 13015055, \
         .rod_w2dt2_q28 = 0, \
     }, \
+    .cfg_mid = { \
+        .dt_q40 = 2199023, \
+        .piezo_gain_q48 = 12384899, \
+        .friction_model = 1, \
+        .lag_q24 = 250045, \
+        .kick_rod_q40 = 999555915, \
+        .kick_slider_q40 = 79674747, \
+        .phi_q28 = {173509959, 234528950, -177389129, 170866179}, \
+        .friction = { \
+            .fs_q24 = 60397980, \
+            .fc_q24 = 50331648, \
+            .vs_q28 = 107374, \
+            .sigma0_n_per_m = 10000000, \
+            .sigma1_q16 = 5242880, \
+            .sigma2_q16 = 524288, \
+            .asymmetry_q30 = 0, \
+            .inv_vs_q45 = 327680557, \
+            .inv_sigma0_q47 = 14073749, \
+            .inv_fs_q48 = 4660338, \
+            .sat_length_q40 = 9499780, \
+        }, \
+        .inv_dt_q47 = 64000007, \
+        .effects = { \
+            .load_q24 = 0, \
+            .slew_q24 = 0, \
+            .sensor_scale_q30 = 0, \
+            .hysteresis_alpha_q30 = 0, \
+            .hysteresis_width_q40 = 0, \
+            .pad = 0, \
+            .hysteresis_inv_width_q48 = 0, \
+            .base_kick_q40 = 0, \
+            .base_stiffness_n_per_m = 0, \
+            .base_damping_q16 = 0, \
+            .piezo_stiffness_n_per_m = 0, \
+            .piezo_damping_q16 = 0, \
+            .pad2 = 0, \
+        }, \
+        .contact_lag_q30 = 3253762, \
+        .rod_w2dt2_q28 = 203034772, \
+    }, \
     .n = 4, \
     .v_rel_max_q28 = 268435, \
     .ring_max_q40 = 220, \
-    .pad = 0, \
+    .ring_max_2_q40 = 110, \
+    .v_rel_mid_max_q28 = 1342177, \
+    .ring_mid_max_q40 = 440, \
 }
 /* clang-format on */
 

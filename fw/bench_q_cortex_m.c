@@ -17,10 +17,11 @@ static void print(const ss_port_link_t *link, const char *line, size_t n)
     (void)link->write(link->ctx, (const uint8_t *)line, n);
 }
 
-/* LuGre with coarse steps of 4 where the contact sticks (bench_q_config.h; docs/model.md): the same
- * BENCH_STEPS steps of model time in fewer model steps. The player advances every step of dt (a
- * coarse step advances a copy of it n times) but is read once a model step: its advances over
- * BENCH_STEPS and its reads per model step are subtracted (player_ns: advance and read, each step). */
+/* LuGre with coarse steps of 4 where the contact sticks, 2 where it rings (bench_q_config.h;
+ * docs/model.md): the same BENCH_STEPS steps of model time in fewer model steps. The player
+ * advances every step of dt (a coarse step advances a copy of it n times) but is read once a model
+ * step: its advances over BENCH_STEPS and its reads per model step are subtracted (player_ns:
+ * advance and read, each step). */
 static void coarse_bench(const ss_port_link_t *link, const ss_actuator_config_q_t *cfg,
                          const ss_waveform_config_q_t *w, uint64_t player_ns)
 {

@@ -228,10 +228,13 @@ class ActuatorCoarseQ(C.Structure):
 
     _fields_ = [
         ("cfg", ActuatorConfigQ),
+        ("cfg_mid", ActuatorConfigQ),
         ("n", C.c_uint32),
         ("v_rel_max_q28", C.c_int32),
         ("ring_max_q40", C.c_int32),
-        ("pad", C.c_int32),
+        ("ring_max_2_q40", C.c_int32),
+        ("v_rel_mid_max_q28", C.c_int32),
+        ("ring_mid_max_q40", C.c_int32),
     ]
 
 

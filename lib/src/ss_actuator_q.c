@@ -486,29 +486,63 @@ void ss_actuator_record_q(const ss_actuator_config_q_t *cfg, const ss_actuator_s
     }
 }
 
-/* A coarse step may be taken (as coarse_allowed of ss_actuator_f32.c): co->n steps fit, the contact
- * sticks, the drive is straight over them, and the rod is quiet, which needs the drive at their end
- * (*w_end, *drive_end: the player advanced a copy's n steps). */
-SS_FORCE_INLINE int coarse_allowed(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
-                                   const ss_actuator_state_q_t *st, const ss_waveform_config_q_t *wave,
-                                   const ss_waveform_state_q_t *wst, uint32_t max_steps,
-                                   ss_waveform_state_q_t *w_end, int32_t *drive_end)
+/* The rod's travel at v_rod over m steps' dt (dt_q40 the coarse config's) against the ideal
+ * strain's change to drive_end, m at 2^-40: the ring that the coarse tests bound. */
+SS_FORCE_INLINE int64_t ring_travel_q40(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
+                                        int32_t dt_q40, int32_t drive_end)
 {
-    if (co == NULL || co->n > max_steps ||
-        ss_abs64((int64_t)st->v_rod_q28 - st->v_slider_q28) >= co->v_rel_max_q28 ||
-        !ss_waveform_straight_q(wave, wst, co->n)) {
-        return 0;
-    }
+    /* m/s at 2^-28 times s at 2^-40, and m/V at 2^-48 times V at 2^-16: both m at 2^-40 */
+    const int64_t rod = ss_shr_round(ss_mul_s32_s64(st->v_rod_q28, dt_q40), 28);
+    const int64_t strain =
+        ss_shr_round(ss_mul_s32_s64(cfg->piezo_gain_q48, ss_sat32((int64_t)drive_end - st->drive_q16)), 24);
+    return ss_abs64(rod - strain);
+}
+
+/* The drive after m steps (*w_end: the player advanced a copy's m steps), and whether the rod's
+ * ring over them is within ring_max_q40 (its travel at v_rod against the ideal strain's change). */
+SS_FORCE_INLINE int quiet_over(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
+                               const ss_waveform_config_q_t *wave, const ss_waveform_state_q_t *wst,
+                               uint32_t m, int32_t dt_q40, int32_t ring_max_q40, ss_waveform_state_q_t *w_end,
+                               int32_t *drive_end)
+{
     *w_end = *wst;
-    for (uint32_t k = 0; k < co->n; ++k) {
+    for (uint32_t k = 0; k < m; ++k) {
         ss_waveform_advance_q(w_end);
     }
     *drive_end = ss_waveform_value_q(wave, w_end);
     /* m/s at 2^-28 times s at 2^-40, and m/V at 2^-48 times V at 2^-16: both m at 2^-40 */
-    const int64_t rod = ss_shr_round(ss_mul_s32_s64(st->v_rod_q28, co->cfg.dt_q40), 28);
+    const int64_t rod = ss_shr_round(ss_mul_s32_s64(st->v_rod_q28, dt_q40), 28);
     const int64_t strain =
         ss_shr_round(ss_mul_s32_s64(cfg->piezo_gain_q48, ss_sat32((int64_t)*drive_end - st->drive_q16)), 24);
-    return ss_abs64(rod - strain) < co->ring_max_q40;
+    return ss_abs64(rod - strain) < ring_max_q40;
+}
+
+/* The coarse step that may be taken (as coarse_allowed of ss_actuator_f32.c), in steps of dt, or 0:
+ * where the contact sticks and the rod is quiet, co->n where they fit before the row, else 2; where
+ * the contact rings within the middle bounds, 2. The drive is straight over them; *w_end and
+ * *drive_end get the player and the drive at the step's end. */
+SS_FORCE_INLINE uint32_t coarse_allowed(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
+                                        const ss_actuator_state_q_t *st, const ss_waveform_config_q_t *wave,
+                                        const ss_waveform_state_q_t *wst, uint32_t max_steps,
+                                        ss_waveform_state_q_t *w_end, int32_t *drive_end)
+{
+    if (co == NULL || max_steps < 2u) {
+        return 0u;
+    }
+    const int64_t v_rel = ss_abs64((int64_t)st->v_rod_q28 - st->v_slider_q28);
+    if (v_rel < co->v_rel_max_q28) {
+        const int whole = co->n <= max_steps;
+        const uint32_t m = whole ? co->n : 2u;
+        if (ss_waveform_straight_q(wave, wst, m) &&
+            quiet_over(cfg, st, wave, wst, m, whole ? co->cfg.dt_q40 : co->cfg_mid.dt_q40,
+                       whole ? co->ring_max_q40 : co->ring_max_2_q40, w_end, drive_end)) {
+            return m;
+        }
+    }
+    return (v_rel < co->v_rel_mid_max_q28 && ss_waveform_straight_q(wave, wst, 2u) &&
+            quiet_over(cfg, st, wave, wst, 2u, co->cfg_mid.dt_q40, co->ring_mid_max_q40, w_end, drive_end))
+               ? 2u
+               : 0u;
 }
 
 ss_status_t ss_actuator_run_coarse_q(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
@@ -531,12 +565,14 @@ ss_status_t ss_actuator_run_coarse_q(const ss_actuator_config_q_t *cfg, const ss
         ss_waveform_state_q_t w_end;
         int32_t drive_end = 0;
         uint32_t taken = 1u;
-        if (coarse_allowed(cfg, co, st, wave, wst, (to_row < left) ? to_row : left, &w_end, &drive_end)) {
-            status = step(&co->cfg, st, drive_end, 0, 0);
+        const uint32_t m =
+            coarse_allowed(cfg, co, st, wave, wst, (to_row < left) ? to_row : left, &w_end, &drive_end);
+        if (m != 0u) {
+            status = step((m == co->n) ? &co->cfg : &co->cfg_mid, st, drive_end, 0, 0);
             if (status == SS_OK) {
                 *wst = w_end;
-                st->steps += co->n - 1u; /* step counted one */
-                taken = co->n;
+                st->steps += m - 1u; /* step counted one */
+                taken = m;
             }
         } else {
             status = ss_actuator_wave_step_q(cfg, st, wave, wst);

@@ -305,11 +305,20 @@ ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t
     if (status != SS_OK) {
         return status;
     }
+    at_n.dt_s = 2.0f * in->dt_s;
+    status = ss_actuator_config_to_q(&at_n, &out->cfg_mid, bad);
+    if (status != SS_OK) {
+        return status;
+    }
+    const double length = SS_QF_ONE(SS_QF_LENGTH);
     out->n = n;
     out->v_rel_max_q28 = (int32_t)floor((double)co.v_rel_max_m_per_s * SS_QF_ONE(SS_QF_VELOCITY) + 0.5);
-    out->ring_max_q40 =
-        (int32_t)floor((double)co.v_ring_max_m_per_s * (double)co.dt_s * SS_QF_ONE(SS_QF_LENGTH) + 0.5);
-    out->pad = 0;
+    out->ring_max_q40 = (int32_t)floor((double)co.v_ring_max_m_per_s * (double)co.dt_s * length + 0.5);
+    out->ring_max_2_q40 = (int32_t)floor((double)co.v_ring_max_m_per_s * (double)at_n.dt_s * length + 0.5);
+    out->v_rel_mid_max_q28 =
+        (int32_t)floor((double)co.v_rel_mid_max_m_per_s * SS_QF_ONE(SS_QF_VELOCITY) + 0.5);
+    out->ring_mid_max_q40 =
+        (int32_t)floor((double)co.v_ring_mid_max_m_per_s * (double)at_n.dt_s * length + 0.5);
     return SS_OK;
 }
 

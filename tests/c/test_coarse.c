@@ -298,6 +298,7 @@ static void test_coarse_q(void **unused)
     for (int pass = 0; pass < 2; ++pass) { /* no coarse step allowed; then the library's bounds */
         ss_actuator_coarse_q_t none = co;
         none.v_rel_max_q28 = 0;
+        none.v_rel_mid_max_q28 = 0;
         memset(&a, 0, sizeof a);
         memset(&b, 0, sizeof b);
         ss_waveform_init_q(&w, cq.dt_q40, &wa);
