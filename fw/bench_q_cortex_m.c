@@ -17,15 +17,15 @@ static void print(const ss_port_link_t *link, const char *line, size_t n)
     (void)link->write(link->ctx, (const uint8_t *)line, n);
 }
 
-/* LuGre with coarse steps of 4 where the contact sticks, 2 where it rings (bench_q_config.h;
- * docs/model.md): the same BENCH_STEPS steps of model time in fewer model steps. The player
- * advances every step of dt (a coarse step advances a copy of it n times) but is read once a model
- * step: its advances over BENCH_STEPS and its reads per model step are subtracted (player_ns:
- * advance and read, each step). */
-static void coarse_bench(const ss_port_link_t *link, const ss_actuator_config_q_t *cfg,
-                         const ss_waveform_config_q_t *w, uint64_t player_ns)
+/* With coarse steps where the contact sticks (LS 2 x 1.5 us, LuGre 4 x 1 us), 2 where it rings
+ * (bench_q_config.h; docs/model.md): the same BENCH_STEPS steps of model time in fewer model steps.
+ * The player advances every step of dt (a coarse step advances a copy of it n times) but is read
+ * once a model step: its advances over BENCH_STEPS and its reads per model step are subtracted
+ * (player_ns: advance and read, each step). */
+static void coarse_bench(const ss_port_link_t *link, const char *name, const ss_actuator_config_q_t *cfg,
+                         const ss_actuator_coarse_q_t *co, const ss_waveform_config_q_t *w,
+                         uint64_t player_ns)
 {
-    static const ss_actuator_coarse_q_t co = SS_BENCH_Q_LUGRE_COARSE;
     static ss_actuator_state_q_t st;
     ss_waveform_state_q_t ws;
     int ok = ss_waveform_init_q(w, cfg->dt_q40, &ws) == SS_OK;
@@ -39,7 +39,7 @@ static void coarse_bench(const ss_port_link_t *link, const ss_actuator_config_q_
     uint32_t rows = 0;
     uint32_t model_steps = 0;
     const uint64_t t1 = link->time_ns(link->ctx);
-    ok = ok && ss_actuator_run_coarse_q(cfg, &co, &st, w, &ws, BENCH_STEPS, co.n, NULL, &rows,
+    ok = ok && ss_actuator_run_coarse_q(cfg, co, &st, w, &ws, BENCH_STEPS, co->n, NULL, &rows,
                                         &model_steps) == SS_OK;
     const uint64_t t2 = link->time_ns(link->ctx);
     const uint64_t read_ns = (player_ns - advance_ns) * model_steps / BENCH_STEPS;
@@ -47,16 +47,24 @@ static void coarse_bench(const ss_port_link_t *link, const ss_actuator_config_q_
     const uint64_t model_ns = ((uint64_t)BENCH_STEPS * (((uint64_t)cfg->dt_q40 * 1000000000u) >> 20)) >> 20;
     char line[160];
     size_t n = 0;
-    ss_fmt_put_str(line, &n, "bench q lugre coarse 4: ");
+    ss_fmt_put_str(line, &n, "bench q ");
+    ss_fmt_put_str(line, &n, name);
+    ss_fmt_put_str(line, &n, " coarse ");
+    ss_fmt_put_i64(line, &n, co->n);
+    ss_fmt_put_str(line, &n, ": ");
     ss_fmt_put_i64(line, &n, model_steps);
     ss_fmt_put_str(line, &n, " model steps for ");
     ss_fmt_put_i64(line, &n, BENCH_STEPS);
     ss_fmt_put_str(line, &n, ok ? " steps of dt\n" : " steps of dt (MODEL ERROR)\n");
     print(link, line, n);
     n = 0;
-    ss_fmt_put_str(line, &n, "bench q lugre coarse 4: ");
+    ss_fmt_put_str(line, &n, "bench q ");
+    ss_fmt_put_str(line, &n, name);
+    ss_fmt_put_str(line, &n, " coarse ");
+    ss_fmt_put_i64(line, &n, co->n);
+    ss_fmt_put_str(line, &n, ": ");
     ss_fmt_put_i64(line, &n, (int64_t)((model_instructions * 1000u + model_ns / 2u) / model_ns));
-    ss_fmt_put_str(line, &n, " instructions per microsecond of model time (coarse steps of 4)\n");
+    ss_fmt_put_str(line, &n, " instructions per microsecond of model time (coarse steps)\n");
     print(link, line, n);
     if (!ok) {
         ss_cortex_m_exit(1);
@@ -71,6 +79,7 @@ int main(void)
      * (bench/step_study.py --variant q, docs/fixed-point.md): LS 1.5 us (a config the host made,
      * bench_q_config.h), LuGre Table I's 1 us */
     static const ss_actuator_config_q_t ls_cfg = SS_BENCH_Q_LS_CONFIG;
+    static const ss_actuator_coarse_q_t coarse[2] = {SS_BENCH_Q_LS_COARSE, SS_BENCH_Q_LUGRE_COARSE};
     for (int32_t m = 0; m < 2; ++m) {
         ss_actuator_config_q_t cfg = (m == SS_FRICTION_Q_LS) ? ls_cfg : ss_actuator_config_table1_q();
         cfg.friction_model = m;
@@ -123,9 +132,7 @@ int main(void)
         if (!ok) {
             ss_cortex_m_exit(1);
         }
-        if (m == SS_FRICTION_Q_LUGRE) {
-            coarse_bench(link, &cfg, &w, t1 - t0);
-        }
+        coarse_bench(link, names[m], &cfg, &coarse[m], &w, t1 - t0);
     }
     ss_cortex_m_exit(0);
     return 0;

@@ -235,6 +235,8 @@ class ActuatorCoarseQ(C.Structure):
         ("ring_max_2_q40", C.c_int32),
         ("v_rel_mid_max_q28", C.c_int32),
         ("ring_mid_max_q40", C.c_int32),
+        ("compliance_q56", C.c_int32),
+        ("pad", C.c_int32),
     ]
 
 

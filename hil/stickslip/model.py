@@ -499,8 +499,8 @@ def simulate(
     variant "q" runs the fixed-point core (a sawtooth, or a drive sampled at its step taken one
     sample a step, as a q node's lock-step; the slider starting at 0; of the effects,
     the load, the slew limit, the sensor scale, the asymmetric friction, the hysteresis and the
-    base: the converter refuses the others by name). coarse_steps > 1 (LuGre, LS; the q variant
-    LuGre's, n dt at most 4 us) takes up to that many steps as one where the contact sticks and
+    base: the converter refuses the others by name). coarse_steps > 1 (LuGre, LS; the q variant's
+    n dt at most 4.3 us) takes up to that many steps as one where the contact sticks and
     the rod is quiet, 2 where the contact rings (docs/model.md, "Coarse steps while the contact
     sticks"; issue 17's 0.1 % holds with LuGre's 8 at 1 us and LS's 4 at 1.5 us): the same rows,
     fewer model steps (meta["model_steps"])."""

@@ -91,11 +91,11 @@ ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
 ss_status_t ss_actuator_step_corner_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
                                       int32_t drive_q16, int32_t corner_frac_q30, int32_t corner_q16);
 
-/* Coarse steps while the contact sticks, as ss_actuator_coarse_f32_t (docs/model.md), LuGre's:
- * the actuator's configs at n dt and at 2 dt, made with the bounds by ss_actuator_coarse_to_q
- * (ss_convert_q.h). Unlike the float family's, a coarse step kicks the rod as a fine step does (a
- * q config holds dt / 2 M_R within 31 bits up to 4.3 us for Table I's rod, where the kicks hold
- * 0.1 %), and one cut by a row is taken as 2 dt or not at all. */
+/* Coarse steps while the contact sticks, as ss_actuator_coarse_f32_t (docs/model.md), LuGre's and
+ * LS's: the actuator's configs at n dt and at 2 dt, made with the bounds by ss_actuator_coarse_to_q
+ * (ss_convert_q.h). As the float family's, a coarse step holds the friction in the rod's flow; a
+ * q config holds dt / 2 M_R within 31 bits up to 4.3 us for Table I's rod (n dt at most that), and
+ * a coarse step cut by a row is taken as 2 dt or not at all. */
 typedef struct {
     ss_actuator_config_q_t cfg;     /* the actuator's config with dt_q40 the coarse step's */
     ss_actuator_config_q_t cfg_mid; /* ... and with dt_q40 2 dt: the middle step, and a coarse
@@ -107,6 +107,10 @@ typedef struct {
     int32_t ring_max_2_q40;         /* the same bound over 2 dt */
     int32_t v_rel_mid_max_q28;      /* a step of 2 dt: the contact rings, |v_rod - v_slider| below this */
     int32_t ring_mid_max_q40;       /* ... and the rod's travel off the strain's over 2 dt below this */
+    int32_t compliance_q56;         /* 1 / k, the stack's compliance, m/N at 2^-56: the coarse step holds
+                                     * the friction in the rod's flow; 0 (a stack softer than 33.6
+                                     * MN/m): it kicks the rod as the fine step does (so with a base) */
+    int32_t pad;                    /* zero; keeps the size a multiple of 8 on every target */
 } ss_actuator_coarse_q_t;
 
 /* Columns a run may record (any pointer may be NULL); formats as in the state. */

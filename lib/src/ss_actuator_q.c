@@ -132,15 +132,21 @@ ss_status_t ss_actuator_init_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
     return SS_OK;
 }
 
-/* Half a step of the friction force on both bodies and of the load on the slider: N at 2^-24 times
+/* The slider's velocity after half a step of force_q24 and the load on it: N at 2^-24 times
  * (m/s)/N at 2^-40 is m/s at 2^-64. */
+SS_FORCE_INLINE int32_t slider_kicked_q28(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
+                                          int32_t force_q24)
+{
+    const int64_t on_slider = (int64_t)force_q24 + cfg->effects.load_q24;
+    return ss_sat32(st->v_slider_q28 + ss_shr_round(ss_mul_i64_i32(on_slider, cfg->kick_slider_q40), 36));
+}
+
+/* Half a step of the friction force on both bodies and of the load on the slider. */
 static void kick(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st)
 {
-    const int64_t on_slider = (int64_t)st->force_q24 + cfg->effects.load_q24;
     st->v_rod_q28 =
         ss_sat32(st->v_rod_q28 - ss_shr_round(ss_mul_s32_s64(st->force_q24, cfg->kick_rod_q40), 36));
-    st->v_slider_q28 =
-        ss_sat32(st->v_slider_q28 + ss_shr_round(ss_mul_i64_i32(on_slider, cfg->kick_slider_q40), 36));
+    st->v_slider_q28 = slider_kicked_q28(cfg, st, st->force_q24);
     const ss_effects_config_q_t *e = &cfg->effects;
     if (e->base_kick_q40 != 0) {
         /* the base's spring-damper, and the stack pushing it with -F_p (it pushes the rod with F_p):
@@ -281,9 +287,14 @@ SS_NOINLINE void corner_response(const ss_actuator_config_q_t *cfg, int32_t h_q4
 }
 
 /* A step (ss_actuator_step_q), with the drive bending at corner_frac_q30 of it to corner_q16 when
- * corner_frac_q30 > 0 (ss_actuator_step_corner_q) */
-SS_FORCE_INLINE ss_status_t step(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
-                                 int32_t drive_q16, int32_t corner_frac_q30, int32_t corner_q16)
+ * corner_frac_q30 > 0 (ss_actuator_step_corner_q). compliance_q56 0: the fine step, which kicks the
+ * rod with the friction at both ends. Else a coarse step (no corner, no base) in the float family's
+ * held form (ss_actuator_f32.c, coarse_step_over): the force it starts with held in the rod's flow,
+ * its anchor shifted by the static deflection F0 / k (1 / k, the stack's compliance, m/N at 2^-56),
+ * only the force's change kicked onto the rod at the end. */
+SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                                      int32_t drive_q16, int32_t corner_frac_q30, int32_t corner_q16,
+                                      int32_t compliance_q56)
 {
     if (cfg == NULL || st == NULL) {
         return SS_ERR_NULL;
@@ -305,8 +316,15 @@ SS_FORCE_INLINE ss_status_t step(const ss_actuator_config_q_t *cfg, ss_actuator_
         slew -= slew_1;
     }
     const int64_t v_rel_start = (int64_t)st->v_rod_q28 - st->v_slider_q28;
-    kick(cfg, st);
+    const int32_t f0 = st->force_q24;
+    if (compliance_q56 == 0) {
+        kick(cfg, st);
+    } else {
+        st->v_slider_q28 = slider_kicked_q28(cfg, st, f0);
+    }
     const int64_t kick_dv = v_rel_start - ((int64_t)st->v_rod_q28 - st->v_slider_q28);
+    /* the held force's static deflection of the rod, m at 2^-40: N at 2^-24 times m/N at 2^-56 */
+    const int64_t held = (compliance_q56 == 0) ? 0 : ss_shr_round(ss_mul_s32_s64(f0, compliance_q56), 40);
 
     /* drift: exact flow of the rod under an anchor (strain plus base) ramping linearly over the step
      * (rate b); the stack's damper acts on the rod's velocity relative to the base, so its forced
@@ -327,7 +345,7 @@ SS_FORCE_INLINE ss_status_t step(const ss_actuator_config_q_t *cfg, ss_actuator_
     /* c (b - v_b) / k, m at 2^-40: from the strain's change (the anchor's, without a base) */
     const int64_t lag =
         ss_shr_round(ss_mul_s32_s64(cfg->lag_q24, ss_sat32((int64_t)x_p1 - st->x_p_q40)), SS_QF_LAG);
-    const int64_t e0 = ss_sat32((int64_t)st->x_rod_q40 - (a0 - lag));
+    const int64_t e0 = ss_sat32((int64_t)st->x_rod_q40 - (a0 - held - lag));
     const int64_t ed0 = ss_sat32((int64_t)st->v_rod_q28 - b);
     const int32_t *phi = cfg->phi_q28;
     /* e1 = phi00 e0 + (phi01/dt) (e0' dt);  e1' = (phi10 dt) e0 / dt + phi11 e0' */
@@ -344,7 +362,7 @@ SS_FORCE_INLINE ss_status_t step(const ss_actuator_config_q_t *cfg, ss_actuator_
         const int64_t chord = x_p0 + ss_shr_round(((int64_t)x_p1 - x_p0) * corner_frac_q30, 30);
         corner_response(cfg, ss_sat32(x_pc - chord), corner_frac_q30, &dx_corner, &dv_corner);
     }
-    const int32_t x_rod1 = ss_sat32(a1 - lag + e1 + dx_corner);
+    const int32_t x_rod1 = ss_sat32(a1 - held - lag + e1 + dx_corner);
     const int32_t dx_slider = ss_sat32(ss_shr_round(ss_mul_s32_s64(st->v_slider_q28, cfg->dt_q40), 28));
     const int32_t dx_rel = ss_sat32((int64_t)x_rod1 - st->x_rod_q40 - dx_slider);
     st->x_rod_q40 = x_rod1;
@@ -357,9 +375,13 @@ SS_FORCE_INLINE ss_status_t step(const ss_actuator_config_q_t *cfg, ss_actuator_
     /* friction at the new state and the velocity the step ends with, solved for the closing kick
      * (implicit in the damping terms): F = F_free / (1 + dF/dv dt/2 (1/M_R + 1/M_c)); the load's
      * half kick is known and taken out of the relative velocity */
-    const int64_t load_kick = (cfg->effects.load_q24 == 0)
-                                  ? 0
-                                  : ss_shr_round((int64_t)cfg->effects.load_q24 * cfg->kick_slider_q40, 36);
+    int64_t load_kick = (cfg->effects.load_q24 == 0)
+                            ? 0
+                            : ss_shr_round((int64_t)cfg->effects.load_q24 * cfg->kick_slider_q40, 36);
+    if (compliance_q56 != 0) { /* held: the slider's closing kick were the force to stay F0 */
+        load_kick =
+            ss_shr_round(ss_mul_i64_i32((int64_t)cfg->effects.load_q24 + f0, cfg->kick_slider_q40), 36);
+    }
     const int32_t v_free = ss_sat32((int64_t)st->v_rod_q28 - st->v_slider_q28 - load_kick);
     ss_friction_slopes_q_t slopes;
     int32_t f_free;
@@ -380,8 +402,14 @@ SS_FORCE_INLINE ss_status_t step(const ss_actuator_config_q_t *cfg, ss_actuator_
     /* N s/m in Q16 times (m/s)/N at 2^-40 is 2^-56: to Q30; and the rod's compliance the kicks
      * leave out, the contact's stiffness over sigma0 (Q30) times contact_lag_q30 (as the float) */
     const int64_t kicks = (int64_t)cfg->kick_rod_q40 + cfg->kick_slider_q40;
-    const int64_t denom = SS_Q30_ONE + ss_shr_round((int64_t)slopes.dfdv_q16 * kicks, 26) +
-                          ss_shr_round(ss_mul_s32_s64(slopes.dfdx_q30, cfg->contact_lag_q30), 30);
+    const int64_t g = ss_shr_round((int64_t)slopes.dfdv_q16 * kicks, 26);
+    const int64_t denom =
+        SS_Q30_ONE + g +
+        ((compliance_q56 == 0) ? ss_shr_round(ss_mul_s32_s64(slopes.dfdx_q30, cfg->contact_lag_q30), 30) : 0);
+    if (compliance_q56 != 0) {
+        /* held: F1 = (F_free + g F0) / (1 + g), the change linearised about F0 (as the float) */
+        f_free = ss_sat32((int64_t)f_free + ss_shr_round(ss_mul_i64_i32(g, f0), 30));
+    }
     if (denom > SS_ACT_Q_DENOM_MIN_Q30 && denom <= INT32_MAX) {
         /* F_free / denom by denom's reciprocal m 2^-sh: denom in (0.1 x 2^30, 2^31), sh in
          * [57, 61], F_free m / 2^(sh - 30) one product */
@@ -395,9 +423,23 @@ SS_FORCE_INLINE ss_status_t step(const ss_actuator_config_q_t *cfg, ss_actuator_
         st->force_q24 = f_free;
     }
 
-    kick(cfg, st);
+    if (compliance_q56 == 0) {
+        kick(cfg, st);
+    } else {
+        st->v_rod_q28 = ss_sat32(
+            st->v_rod_q28 -
+            ss_shr_round(ss_mul_s32_s64(ss_sat32((int64_t)st->force_q24 - f0), cfg->kick_rod_q40), 36));
+        st->v_slider_q28 = slider_kicked_q28(cfg, st, st->force_q24);
+    }
     st->steps++;
     return SS_OK;
+}
+
+/* The fine step */
+SS_FORCE_INLINE ss_status_t step(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                                 int32_t drive_q16, int32_t corner_frac_q30, int32_t corner_q16)
+{
+    return step_held(cfg, st, drive_q16, corner_frac_q30, corner_q16, 0);
 }
 
 ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
@@ -568,7 +610,8 @@ ss_status_t ss_actuator_run_coarse_q(const ss_actuator_config_q_t *cfg, const ss
         const uint32_t m =
             coarse_allowed(cfg, co, st, wave, wst, (to_row < left) ? to_row : left, &w_end, &drive_end);
         if (m != 0u) {
-            status = step((m == co->n) ? &co->cfg : &co->cfg_mid, st, drive_end, 0, 0);
+            status = step_held((m == co->n) ? &co->cfg : &co->cfg_mid, st, drive_end, 0, 0,
+                               (cfg->effects.base_kick_q40 == 0) ? co->compliance_q56 : 0);
             if (status == SS_OK) {
                 *wst = w_end;
                 st->steps += m - 1u; /* step counted one */
