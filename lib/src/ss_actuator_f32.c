@@ -377,6 +377,32 @@ static float drift_with_corner(const ss_actuator_config_f32_t *cfg, ss_actuator_
     return x_p1;
 }
 
+/* Where the relative motion turned inside the step (the rod's 69 kHz ringing after the fall turns
+ * it some 70 times a cycle), into c->turn_m and c->turn_frac (0: no turn): the relative velocity
+ * linear from its value at the step's start (c->v_start, before the opening kick) to the drift's
+ * end less the same kick (the closing one, its force taken as the opening's; kick_dv the opening
+ * kick's change of the relative velocity), the two averaging to the drift's. LS's Masing memory
+ * keeps that turning point; taken at the step's end, the loop it closes was up to (w dt)^2 / 8 of
+ * the ring short, and LS's per-cycle error over the drive matrix was 0.087 % at 1 us and 0.31 % at
+ * 1.5 us (docs/model.md). The drift's own velocities turn in most steps of a stick phase, where the
+ * kicks alone flip the sign. GMS's elements keep the same memory (its position error at 1 us
+ * against 0.125 us, 6.6 -> 0.6 nm RMS on the diagnosis' drives). LuGre keeps no turning point, and
+ * the split made its error grow (0.056 % -> 0.127 % at 1 us). */
+SS_FORCE_INLINE void turn_inside(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
+                                 float kick_dv, carry_t *c)
+{
+    c->turn_m = 0.0f;
+    c->turn_frac = 0.0f;
+    if (cfg->friction_model != SS_FRICTION_LUGRE) {
+        const float p1 = (st->v_rod_m_per_s - st->v_slider_m_per_s) - kick_dv;
+        const float frac = c->v_start / (c->v_start - p1);
+        if (c->v_start * p1 < 0.0f && frac < 1.0f) { /* frac rounds to 1 where p1 is tiny: no turn */
+            c->turn_frac = frac;
+            c->turn_m = 0.5f * c->v_start * frac * c->dt;
+        }
+    }
+}
+
 /* A step's first phase, a step of dt with the rod's flow phi over it (cfg's dt and the state's
  * flow, or a coarse step's): the drive is linear from its current value to drive_v, or (corner_frac >
  * 0) linear to corner_v at corner_frac dt and then linear to drive_v. The opening kick and the
@@ -418,26 +444,7 @@ SS_FORCE_INLINE ss_status_t step_start(const ss_actuator_config_f32_t *cfg, ss_a
     const float x_b1 = x_b0 + st->fx.v_base_m_per_s * dt;
     const float dx_slider = st->v_slider_m_per_s * dt;
     c->dx_rel = (st->x_rod_m - x_rod0) - dx_slider;
-    /* Where the relative motion turned inside the step (the rod's 69 kHz ringing after the fall
-     * turns it some 70 times a cycle): the relative velocity linear from its value at the step's
-     * start (before the opening kick) to the drift's end less the same kick (the closing one, its
-     * force taken as the opening's), the two averaging to the drift's. LS's Masing memory keeps
-     * that turning point; taken at the step's end, the loop it closes was up to (w dt)^2 / 8 of
-     * the ring short, and LS's per-cycle error over the drive matrix was 0.087 % at 1 us and
-     * 0.31 % at 1.5 us (docs/model.md). The drift's own velocities turn in most steps of a stick
-     * phase, where the kicks alone flip the sign. GMS's elements keep the same memory (its
-     * position error at 1 us against 0.125 us, 6.6 -> 0.6 nm RMS on the diagnosis' drives). LuGre
-     * keeps no turning point, and the split made its error grow (0.056 % -> 0.127 % at 1 us). */
-    c->turn_m = 0.0f;
-    c->turn_frac = 0.0f;
-    if (cfg->friction_model != SS_FRICTION_LUGRE) {
-        const float p1 = (st->v_rod_m_per_s - st->v_slider_m_per_s) - kick_dv;
-        const float frac = v_rel_start / (v_rel_start - p1);
-        if (v_rel_start * p1 < 0.0f && frac < 1.0f) { /* frac rounds to 1 where p1 is tiny: no turn */
-            c->turn_frac = frac;
-            c->turn_m = 0.5f * v_rel_start * frac * dt;
-        }
-    }
+    turn_inside(cfg, st, kick_dv, c);
     st->fx.x_base_m = x_b1;
     position_add(&st->x_slider, dx_slider);
     st->x_p_m = x_p1;
@@ -715,8 +722,6 @@ SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg
     c.inv_mr = 1.0f / cfg->rod_mass_kg;
     c.inv_mc = 1.0f / cfg->slider_mass_kg;
     c.v_start = st->v_rod_m_per_s - st->v_slider_m_per_s;
-    c.turn_m = 0.0f;
-    c.turn_frac = 0.0f;
     c.f0 = f0;
 
     const float kick_dv = (f0 + load) * c.inv_mc * half; /* the opening kick's relative dv */
@@ -729,16 +734,7 @@ SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg
     rod_drift(cfg, phi, dt, a0, x_p1 - shift, 0.0f, &st->x_rod_m, &st->v_rod_m_per_s);
     const float dx_slider = st->v_slider_m_per_s * dt;
     c.dx_rel = (st->x_rod_m - x_rod0) - dx_slider;
-    if (cfg->friction_model == SS_FRICTION_LS) {
-        /* LS's turning point inside the step, as step_start finds it (the closing kick taken as
-         * the opening one's): the slider's 4 kHz ring on the contact turns the motion in a stick */
-        const float p1 = (st->v_rod_m_per_s - st->v_slider_m_per_s) - kick_dv;
-        const float frac = c.v_start / (c.v_start - p1);
-        if (c.v_start * p1 < 0.0f && frac < 1.0f) {
-            c.turn_frac = frac;
-            c.turn_m = 0.5f * c.v_start * frac * dt;
-        }
-    }
+    turn_inside(cfg, st, kick_dv, &c); /* LS's: the slider's 4 kHz ring turns it in a stick */
     position_add(&st->x_slider, dx_slider);
     st->x_p_m = x_p1;
     st->drive_v = drive_v;

@@ -375,12 +375,12 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     /* friction at the new state and the velocity the step ends with, solved for the closing kick
      * (implicit in the damping terms): F = F_free / (1 + dF/dv dt/2 (1/M_R + 1/M_c)); the load's
      * half kick is known and taken out of the relative velocity */
-    int64_t load_kick = (cfg->effects.load_q24 == 0)
-                            ? 0
-                            : ss_shr_round((int64_t)cfg->effects.load_q24 * cfg->kick_slider_q40, 36);
-    if (compliance_q56 != 0) { /* held: the slider's closing kick were the force to stay F0 */
+    int64_t load_kick = 0;
+    if (compliance_q56 != 0) { /* held: and the slider's closing kick were the force to stay F0 */
         load_kick =
             ss_shr_round(ss_mul_i64_i32((int64_t)cfg->effects.load_q24 + f0, cfg->kick_slider_q40), 36);
+    } else if (cfg->effects.load_q24 != 0) {
+        load_kick = ss_shr_round((int64_t)cfg->effects.load_q24 * cfg->kick_slider_q40, 36);
     }
     const int32_t v_free = ss_sat32((int64_t)st->v_rod_q28 - st->v_slider_q28 - load_kick);
     ss_friction_slopes_q_t slopes;
@@ -526,18 +526,6 @@ void ss_actuator_record_q(const ss_actuator_config_q_t *cfg, const ss_actuator_s
     if (tr->x_meas_q40 != NULL) {
         tr->x_meas_q40[row] = ss_actuator_sensor_q(cfg, st->x_slider_q40);
     }
-}
-
-/* The rod's travel at v_rod over m steps' dt (dt_q40 the coarse config's) against the ideal
- * strain's change to drive_end, m at 2^-40: the ring that the coarse tests bound. */
-SS_FORCE_INLINE int64_t ring_travel_q40(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
-                                        int32_t dt_q40, int32_t drive_end)
-{
-    /* m/s at 2^-28 times s at 2^-40, and m/V at 2^-48 times V at 2^-16: both m at 2^-40 */
-    const int64_t rod = ss_shr_round(ss_mul_s32_s64(st->v_rod_q28, dt_q40), 28);
-    const int64_t strain =
-        ss_shr_round(ss_mul_s32_s64(cfg->piezo_gain_q48, ss_sat32((int64_t)drive_end - st->drive_q16)), 24);
-    return ss_abs64(rod - strain);
 }
 
 /* The drive after m steps (*w_end: the player advanced a copy's m steps), and whether the rod's

@@ -313,11 +313,11 @@ ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t
     out->ring_max_2_q40 = (int32_t)floor((double)co.v_ring_max_m_per_s * (double)at_n.dt_s * length + 0.5);
     out->v_rel_mid_max_q28 =
         (int32_t)floor((double)co.v_rel_mid_max_m_per_s * SS_QF_ONE(SS_QF_VELOCITY) + 0.5);
+    out->ring_mid_max_q40 =
+        (int32_t)floor((double)co.v_ring_mid_max_m_per_s * (double)at_n.dt_s * length + 0.5);
     const double compliance = ldexp(1.0, 56) / (double)in->piezo_stiffness_n_per_m;
     out->compliance_q56 = (compliance < 2147483647.0) ? (int32_t)floor(compliance + 0.5) : 0;
     out->pad = 0;
-    out->ring_mid_max_q40 =
-        (int32_t)floor((double)co.v_ring_mid_max_m_per_s * (double)at_n.dt_s * length + 0.5);
     return SS_OK;
 }
 
