@@ -142,7 +142,8 @@ static void mid_periods(const uint32_t *step, const float *x, uint32_t rows, flo
     }
 }
 
-static void paper_drive_holds(ss_actuator_config_f32_t c, uint32_t n, double steps_per_us_max)
+static void paper_drive_holds(ss_actuator_config_f32_t c, uint32_t n, double steps_per_us_max,
+                              double step_min_m)
 {
     enum { C = 5, REF_DEC = 8, REF_ROWS = C * PAPER_PERIOD_US * 8 / REF_DEC };
     static uint32_t rs[REF_ROWS];
@@ -165,7 +166,7 @@ static void paper_drive_holds(ss_actuator_config_f32_t c, uint32_t n, double ste
     for (int k = 1; k < C; ++k) {
         const double s_ref = xr[k] - xr[k - 1];
         const double s = xc[k] - xc[k - 1];
-        assert_true(s_ref > 1.5e-6); /* a paper cycle's step: LuGre 2.2 um, LS 1.9-2.1 um */
+        assert_true(s_ref > step_min_m); /* a paper cycle's step: LuGre 2.2 um, LS 1.9-2.1 um */
         assert_close(s, s_ref, 1e-3 * s_ref);
     }
 }
@@ -178,11 +179,11 @@ static void paper_drive_holds(ss_actuator_config_f32_t c, uint32_t n, double ste
 static void test_paper_drive_holds_a_tenth_of_a_percent(void **unused)
 {
     (void)unused;
-    paper_drive_holds(lugre_config(), 8u, 0.35);
+    paper_drive_holds(lugre_config(), 8u, 0.35, 2e-6);
     ss_actuator_config_f32_t ls = ss_actuator_config_table1_f32();
     ls.friction_model = SS_FRICTION_LS;
     ls.dt_s = 1.5e-6f;
-    paper_drive_holds(ls, 4u, 0.45);
+    paper_drive_holds(ls, 4u, 0.45, 1.8e-6);
 }
 
 static void test_waveform_straight_and_slope(void **unused)
