@@ -136,13 +136,8 @@ def main() -> None:
     segments, at_pc = profile(a.target, a.variant, a.lines)
     segments, at_pc = segments[1:], at_pc[1:]  # before the first init: start-up
     image = ROOT / "build" / a.target / "fw" / IMAGES[a.variant]
-    # the benches' order: each law, then (f32: each; q: LuGre) with coarse steps (figures per step
-    # of dt)
-    order = (
-        ("ls", "ls coarse", "lugre", "lugre coarse")
-        if a.variant == "f32"
-        else ("ls", "lugre", "lugre coarse")
-    )
+    # the benches' order: each law, fine then with coarse steps (figures per step of dt)
+    order = ("ls", "ls coarse", "lugre", "lugre coarse")
     for name, seg, pcs in zip(order, segments, at_pc):
         total = sum(n for k, n in seg.items() if " <- " not in k)
         print(f"== {a.target} {a.variant} {name}: {total / BENCH_STEPS:.0f} instructions per step")

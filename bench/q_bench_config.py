@@ -1,7 +1,7 @@
 """The fixed-point bench's configs (fw/bench_q_config.h): Table I at the step at which LS holds
 issue 17's 0.1 % a cycle (bench/step_study.py --variant q: 0.070 % at 1.5 us), and the coarse
-steps: LS's of 2 at 1.5 us (ss_actuator_coarse_to_q; --variant q --coarse 2: 0.077 %), LuGre's of 4
-at 1 us (--coarse 4: 0.041 %), through the host
+steps: LS's of 4 at 1.5 us (ss_actuator_coarse_to_q; --variant q --coarse 4: 0.068 %), LuGre's of 8
+at 1 us (--coarse 8: 0.066 %), through the host
 converter (in double), which the integer-only bench image does not link.
 tests/python/test_firmware_q.py checks that the committed header is what this prints.
 
@@ -15,8 +15,8 @@ import ctypes as C
 from stickslip import _native as N
 
 LS_STEP_S = 1.5e-6
-LS_COARSE_N = 2  # 3 us: a q config holds dt / 2 M_R to 4.3 us for Table I's rod
-COARSE_N = 4
+LS_COARSE_N = 4  # 6 us: a q config holds dt / 2 M_R to 8.6 us for Table I's rod
+COARSE_N = 8
 
 
 def header() -> str:

@@ -49,17 +49,17 @@
     .rod_w2dt2_q28 = 114207163, \
 }
 
-/* Table I, LS, dt 1.5 us: coarse steps of 2 (ss_actuator_coarse_to_q) */
+/* Table I, LS, dt 1.5 us: coarse steps of 4 (ss_actuator_coarse_to_q) */
 #define SS_BENCH_Q_LS_COARSE \
 { \
     .cfg = { \
-        .dt_q40 = 3298535, \
+        .dt_q40 = 6597070, \
         .piezo_gain_q48 = 12384899, \
         .friction_model = 0, \
-        .lag_q24 = 166697, \
-        .kick_rod_q40 = 1499334099, \
-        .kick_slider_q40 = 119512139, \
-        .phi_q28 = {71708453, 196850994, -335004626, 68379881}, \
+        .lag_q24 = 83348, \
+        .kick_rod_q40 = 2998668198, \
+        .kick_slider_q40 = 239024278, \
+        .phi_q28 = {-226512147, 51365286, -349657535, -228249227}, \
         .friction = { \
             .fs_q24 = 60397980, \
             .fc_q24 = 50331648, \
@@ -73,7 +73,7 @@
             .inv_fs_q48 = 4660338, \
             .sat_length_q40 = 9499780, \
         }, \
-        .inv_dt_q47 = 42666665, \
+        .inv_dt_q47 = 21333333, \
         .effects = { \
             .load_q24 = 0, \
             .slew_q24 = 0, \
@@ -89,7 +89,7 @@
             .piezo_damping_q16 = 0, \
             .pad2 = 0, \
         }, \
-        .contact_lag_q30 = 7320968, \
+        .contact_lag_q30 = 29283870, \
         .rod_w2dt2_q28 = 0, \
     }, \
     .cfg_mid = { \
@@ -132,9 +132,9 @@
         .contact_lag_q30 = 7320968, \
         .rod_w2dt2_q28 = 0, \
     }, \
-    .n = 2, \
+    .n = 4, \
     .v_rel_max_q28 = 268435, \
-    .ring_max_q40 = 165, \
+    .ring_max_q40 = 330, \
     .ring_max_2_q40 = 165, \
     .v_rel_mid_max_q28 = 2684355, \
     .ring_mid_max_q40 = 1649, \
@@ -142,17 +142,17 @@
     .pad = 0, \
 }
 
-/* Table I, LuGre, dt 1 us: coarse steps of 4 (ss_actuator_coarse_to_q) */
+/* Table I, LuGre, dt 1 us: coarse steps of 8 (ss_actuator_coarse_to_q) */
 #define SS_BENCH_Q_LUGRE_COARSE \
 { \
     .cfg = { \
-        .dt_q40 = 4398047, \
+        .dt_q40 = 8796093, \
         .piezo_gain_q48 = 12384899, \
         .friction_model = 1, \
-        .lag_q24 = 125023, \
-        .kick_rod_q40 = 1999112284, \
-        .kick_slider_q40 = 159349531, \
-        .phi_q28 = {-42830437, 150438677, -455145483, -46222146}, \
+        .lag_q24 = 62511, \
+        .kick_rod_q40 = 3998224113, \
+        .kick_slider_q40 = 318699025, \
+        .phi_q28 = {-248242346, -24953744, 301985673, -247117159}, \
         .friction = { \
             .fs_q24 = 60397980, \
             .fc_q24 = 50331648, \
@@ -166,7 +166,7 @@
             .inv_fs_q48 = 4660338, \
             .sat_length_q40 = 9499780, \
         }, \
-        .inv_dt_q47 = 31999996, \
+        .inv_dt_q47 = 16000000, \
         .effects = { \
             .load_q24 = 0, \
             .slew_q24 = 0, \
@@ -182,7 +182,7 @@
             .piezo_damping_q16 = 0, \
             .pad2 = 0, \
         }, \
-        .contact_lag_q30 = 13015055, \
+        .contact_lag_q30 = 52060210, \
         .rod_w2dt2_q28 = 0, \
     }, \
     .cfg_mid = { \
@@ -225,9 +225,9 @@
         .contact_lag_q30 = 3253762, \
         .rod_w2dt2_q28 = 203034772, \
     }, \
-    .n = 4, \
+    .n = 8, \
     .v_rel_max_q28 = 268435, \
-    .ring_max_q40 = 220, \
+    .ring_max_q40 = 440, \
     .ring_max_2_q40 = 110, \
     .v_rel_mid_max_q28 = 1342177, \
     .ring_mid_max_q40 = 440, \

@@ -212,7 +212,7 @@ class ActuatorConfigQ(C.Structure):
         ("piezo_gain_q48", C.c_int32),
         ("friction_model", C.c_int32),
         ("lag_q24", C.c_int32),
-        ("kick_rod_q40", C.c_int32),
+        ("kick_rod_q40", C.c_uint32),
         ("kick_slider_q40", C.c_int32),
         ("phi_q28", C.c_int32 * 4),
         ("friction", FrictionConfigQ),

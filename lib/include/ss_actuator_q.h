@@ -23,7 +23,7 @@ typedef struct {
     int32_t piezo_gain_q48; /* ideal strain per volt, m/V at 2^-48: nonzero, |gain| < 7.6 um/V */
     int32_t friction_model; /* SS_FRICTION_Q_LS or SS_FRICTION_Q_LUGRE */
     int32_t lag_q24; /* c / (k dt): forced-response lag of the rod per strain increment, Q8.24 [0, 128) */
-    int32_t kick_rod_q40;    /* dt / (2 M_R): rod velocity per newton per half step, (m/s)/N at 2^-40, > 0 */
+    uint32_t kick_rod_q40;   /* dt / (2 M_R): rod velocity per newton per half step, (m/s)/N at 2^-40, > 0 */
     int32_t kick_slider_q40; /* dt / (2 M_c): the same for the slider, > 0 */
     /* Exact rod flow over dt on (e, e' dt), e the rod's deviation from its forced response:
      * {phi00, phi01 / dt, phi10 dt, phi11} of the float family's phi, dimensionless, Q4.28 */
@@ -94,7 +94,7 @@ ss_status_t ss_actuator_step_corner_q(const ss_actuator_config_q_t *cfg, ss_actu
 /* Coarse steps while the contact sticks, as ss_actuator_coarse_f32_t (docs/model.md), LuGre's and
  * LS's: the actuator's configs at n dt and at 2 dt, made with the bounds by ss_actuator_coarse_to_q
  * (ss_convert_q.h). As the float family's, a coarse step holds the friction in the rod's flow; a
- * q config holds dt / 2 M_R within 31 bits up to 4.3 us for Table I's rod (n dt at most that), and
+ * q config holds dt / 2 M_R within 32 bits up to 8.6 us for Table I's rod (n dt at most that), and
  * a coarse step cut by a row is taken as 2 dt or not at all. */
 typedef struct {
     ss_actuator_config_q_t cfg;     /* the actuator's config with dt_q40 the coarse step's */

@@ -54,7 +54,7 @@ ss_status_t ss_actuator_config_check_q(const ss_actuator_config_q_t *cfg, const 
         *bad = "friction_model";
     } else if (cfg->lag_q24 < 0) {
         *bad = "lag_q24";
-    } else if (cfg->kick_rod_q40 <= 0) {
+    } else if (cfg->kick_rod_q40 == 0u) {
         *bad = "kick_rod_q40";
     } else if (cfg->kick_slider_q40 <= 0) {
         *bad = "kick_slider_q40";
@@ -145,7 +145,7 @@ SS_FORCE_INLINE int32_t slider_kicked_q28(const ss_actuator_config_q_t *cfg, con
 static void kick(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st)
 {
     st->v_rod_q28 =
-        ss_sat32(st->v_rod_q28 - ss_shr_round(ss_mul_s32_s64(st->force_q24, cfg->kick_rod_q40), 36));
+        ss_sat32(st->v_rod_q28 - ss_shr_round(ss_mul_s32_u32_s64(st->force_q24, cfg->kick_rod_q40), 36));
     st->v_slider_q28 = slider_kicked_q28(cfg, st, st->force_q24);
     const ss_effects_config_q_t *e = &cfg->effects;
     if (e->base_kick_q40 != 0) {
@@ -428,7 +428,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     } else {
         st->v_rod_q28 = ss_sat32(
             st->v_rod_q28 -
-            ss_shr_round(ss_mul_s32_s64(ss_sat32((int64_t)st->force_q24 - f0), cfg->kick_rod_q40), 36));
+            ss_shr_round(ss_mul_s32_u32_s64(ss_sat32((int64_t)st->force_q24 - f0), cfg->kick_rod_q40), 36));
         st->v_slider_q28 = slider_kicked_q28(cfg, st, st->force_q24);
     }
     st->steps++;

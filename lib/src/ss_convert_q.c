@@ -165,11 +165,11 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
         return SS_ERR_RANGE;
     }
     out->lag_q24 = (int32_t)v;
-    if (!to_int(dt / (2.0 * (double)in->rod_mass_kg) * SS_QF_ONE(SS_QF_KICK), 1.0, i32max, &v)) {
+    if (!to_int(dt / (2.0 * (double)in->rod_mass_kg) * SS_QF_ONE(SS_QF_KICK), 1.0, 4294967295.0, &v)) {
         *bad = "rod_mass_kg";
         return SS_ERR_RANGE;
     }
-    out->kick_rod_q40 = (int32_t)v;
+    out->kick_rod_q40 = (uint32_t)v;
     if (!to_int(dt / (2.0 * (double)in->slider_mass_kg) * SS_QF_ONE(SS_QF_KICK), 1.0, i32max, &v)) {
         *bad = "slider_mass_kg";
         return SS_ERR_RANGE;

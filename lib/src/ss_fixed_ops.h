@@ -57,6 +57,30 @@ static inline int64_t ss_mul_s32_s64(int32_t a, int32_t b)
 #endif
 }
 
+/* a b, exact, for int32 a and uint32 b (|a b| < 2^63), from the halves of a's magnitude. */
+static inline int64_t ss_mul_s32_u32_s64_halves(int32_t a, uint32_t b)
+{
+    const uint32_t ma = (a < 0) ? 0u - (uint32_t)a : (uint32_t)a;
+    const int64_t p = (int64_t)ss_mul_u32_u64_halves(ma, b);
+    return (a < 0) ? -p : p;
+}
+
+/* a b, exact, for int32 a and uint32 b: on ARMv7-M and the host one SMULL where b fits int32
+ * (every fine step's kick), and a 2^32 carried into the high word where it does not (a coarse
+ * step's kick, dt / 2 M_R past 2^31 at 2^-40); the halves on ARMv6-M. */
+static inline int64_t ss_mul_s32_u32_s64(int32_t a, uint32_t b)
+{
+#if defined(__ARM_ARCH_6M__)
+    return ss_mul_s32_u32_s64_halves(a, b);
+#else
+    int64_t p = (int64_t)a * (int32_t)b; /* b's bits read as int32: b - 2^32 where b >= 2^31 */
+    if ((int32_t)b < 0) {
+        p += (int64_t)a * 4294967296; /* a 2^32, within 64 bits for |a| <= 2^31 */
+    }
+    return p;
+#endif
+}
+
 /* a b for an int64 a (the product within 64 bits): where a fits 32 bits, as ss_mul_s32_s64 on
  * ARMv6-M (a compare, then the halves); the plain product elsewhere. Many of the step's 64-bit
  * values are 32-bit ones kept wide for the arithmetic around them. */

@@ -264,14 +264,71 @@ static void test_waveform_straight_q(void **unused)
     assert_false(ss_waveform_straight_q(&w, &ws, UINT32_MAX)); /* more than a period */
 }
 
+enum { QC = 4, QROWS = QC * PAPER_PERIOD_US / 4 };
+
+/* The q coarse run of n (rows every n) against the fine q run with no coarse step allowed (bit for
+ * bit) and against the float coarse run of n (each cycle's step within the q family's 1 %). */
+static void coarse_q_against_float(const ss_actuator_config_f32_t *c, const ss_actuator_config_q_t *cq,
+                                   const ss_actuator_coarse_q_t *co, uint32_t n)
+{
+    static int64_t xa[QROWS], xb[QROWS];
+    ss_waveform_config_q_t w = ss_waveform_paper_q();
+    w.cycles = QC;
+    ss_actuator_trace_q_t tr;
+    memset(&tr, 0, sizeof tr);
+    tr.capacity = QROWS;
+    ss_actuator_state_q_t a, b;
+    ss_waveform_state_q_t wa, wb;
+    uint32_t rows = 0, steps = 0;
+    for (int pass = 0; pass < 2; ++pass) { /* no coarse step allowed; then the library's bounds */
+        ss_actuator_coarse_q_t none = *co;
+        none.v_rel_max_q28 = 0;
+        none.v_rel_mid_max_q28 = 0;
+        memset(&a, 0, sizeof a);
+        memset(&b, 0, sizeof b);
+        ss_waveform_init_q(&w, cq->dt_q40, &wa);
+        ss_waveform_init_q(&w, cq->dt_q40, &wb);
+        ss_actuator_init_q(cq, &a, 0);
+        ss_actuator_init_q(cq, &b, 0);
+        tr.x_slider_q40 = xa;
+        assert_int_equal(ss_actuator_run_coarse_q(cq, pass ? co : &none, &a, &w, &wa, QC * PAPER_PERIOD_US, n,
+                                                  &tr, &rows, &steps),
+                         SS_OK);
+        assert_int_equal(rows, QC * PAPER_PERIOD_US / n);
+        tr.x_slider_q40 = xb;
+        assert_int_equal(ss_actuator_run_q(cq, &b, &w, &wb, QC * PAPER_PERIOD_US, n, &tr, &rows), SS_OK);
+        if (pass == 0) {
+            assert_int_equal(steps, QC * PAPER_PERIOD_US);
+            assert_memory_equal(&a, &b, sizeof a);
+            assert_memory_equal(xa, xb, rows * sizeof xa[0]);
+        }
+    }
+    assert_int_equal(a.steps, QC * PAPER_PERIOD_US);
+    /* the float coarse run over the same cycles */
+    ss_actuator_coarse_f32_t cf;
+    assert_int_equal(ss_actuator_coarse_init_f32(c, n, &cf, NULL), SS_OK);
+    ss_actuator_trace_f32_t ta = trace(step_a, col_a);
+    ss_actuator_state_f32_t st;
+    const uint32_t f_steps = run(c, &cf, QC, n, &ta, &st);
+    /* the float run's steps to within 2 % at n = 4, 5 % at n = 8 (q cuts a coarse step short of a
+     * row to 2 dt only, the float to what is left: 2 959 against 2 953 model steps of 8 000 at n =
+     * 4, 2 485 against 2 395 at 8) */
+    assert_true(steps >= f_steps && steps < f_steps * ((n <= 4u) ? 102u : 105u) / 100u);
+    const int per_cycle = PAPER_PERIOD_US / n;
+    for (int k = 1; k + 1 <= QC - 1; ++k) { /* rows at each period's end: row (k + 1) per_cycle - 1 */
+        const double sq = (double)(xa[(k + 1) * per_cycle - 1] - xa[k * per_cycle - 1]) * 0x1p-40;
+        const double sf = (double)col_a[3][(k + 1) * per_cycle - 1] - (double)col_a[3][k * per_cycle - 1];
+        assert_true(sf > 2e-6);
+        assert_close(sq, sf, 1e-2 * sf);
+    }
+}
+
 /* The q family's coarse steps: with none allowed, ss_actuator_run_q's bits; with them, each cycle's
  * step within the q family's 1 % of the float coarse run's (0.002-0.032 % against the converged
  * float run measured: bench/step_study.py --variant q --coarse 4), and about its model steps. */
 static void test_coarse_q(void **unused)
 {
     (void)unused;
-    enum { QC = 4, QROWS = QC * PAPER_PERIOD_US / DEC };
-    static int64_t xa[QROWS], xb[QROWS];
     const ss_actuator_config_f32_t c = lugre_config();
     ss_actuator_config_q_t cq;
     ss_actuator_coarse_q_t co;
@@ -285,63 +342,26 @@ static void test_coarse_q(void **unused)
     other.friction_model = SS_FRICTION_GMS;
     assert_int_equal(ss_actuator_coarse_to_q(&other, 4u, &co, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "friction_model");
-    other.friction_model = SS_FRICTION_LS; /* LS at 1.5 us: 2 steps (3 us), not 3 (past 4.3 us) */
+    /* n dt up to 8.6 us for Table I's rod (dt / 2 M_R below 2^32 at 2^-40): LuGre 8 at 1 us; LS 4
+     * at 1.5 us, not 6 (9 us) */
+    assert_int_equal(ss_actuator_coarse_to_q(&c, 8u, &co, &bad), SS_OK);
+    assert_true(co.cfg.kick_rod_q40 > (uint32_t)INT32_MAX); /* past the fine step's int32 range */
+    assert_int_equal(ss_actuator_coarse_to_q(&c, 9u, &co, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "rod_mass_kg");
+    other.friction_model = SS_FRICTION_LS;
     other.dt_s = 1.5e-6f;
-    assert_int_equal(ss_actuator_coarse_to_q(&other, 2u, &co, &bad), SS_OK);
-    assert_int_equal(ss_actuator_coarse_to_q(&other, 3u, &co, &bad), SS_ERR_RANGE);
+    assert_int_equal(ss_actuator_coarse_to_q(&other, 4u, &co, &bad), SS_OK);
+    assert_int_equal(ss_actuator_coarse_to_q(&other, 6u, &co, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "rod_mass_kg");
     assert_int_equal(ss_actuator_coarse_to_q(&c, 1u, &co, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "coarse_n");
     assert_int_equal(ss_actuator_coarse_to_q(&c, 4u, &co, &bad), SS_OK);
 
-    ss_waveform_config_q_t w = ss_waveform_paper_q();
-    w.cycles = QC;
-    ss_actuator_trace_q_t tr;
-    memset(&tr, 0, sizeof tr);
-    tr.capacity = QROWS;
-    ss_actuator_state_q_t a, b;
-    ss_waveform_state_q_t wa, wb;
-    uint32_t rows = 0, steps = 0;
-    for (int pass = 0; pass < 2; ++pass) { /* no coarse step allowed; then the library's bounds */
-        ss_actuator_coarse_q_t none = co;
-        none.v_rel_max_q28 = 0;
-        none.v_rel_mid_max_q28 = 0;
-        memset(&a, 0, sizeof a);
-        memset(&b, 0, sizeof b);
-        ss_waveform_init_q(&w, cq.dt_q40, &wa);
-        ss_waveform_init_q(&w, cq.dt_q40, &wb);
-        ss_actuator_init_q(&cq, &a, 0);
-        ss_actuator_init_q(&cq, &b, 0);
-        tr.x_slider_q40 = xa;
-        assert_int_equal(ss_actuator_run_coarse_q(&cq, pass ? &co : &none, &a, &w, &wa, QC * PAPER_PERIOD_US,
-                                                  DEC, &tr, &rows, &steps),
-                         SS_OK);
-        assert_int_equal(rows, QROWS);
-        tr.x_slider_q40 = xb;
-        assert_int_equal(ss_actuator_run_q(&cq, &b, &w, &wb, QC * PAPER_PERIOD_US, DEC, &tr, &rows), SS_OK);
-        if (pass == 0) {
-            assert_int_equal(steps, QC * PAPER_PERIOD_US);
-            assert_memory_equal(&a, &b, sizeof a);
-            assert_memory_equal(xa, xb, sizeof xa);
-        }
-    }
-    assert_int_equal(a.steps, QC * PAPER_PERIOD_US);
-    /* the float coarse run over the same cycles */
-    ss_actuator_coarse_f32_t cf;
-    assert_int_equal(ss_actuator_coarse_init_f32(&c, 4u, &cf, NULL), SS_OK);
-    ss_actuator_trace_f32_t ta = trace(step_a, col_a);
-    ss_actuator_state_f32_t st;
-    const uint32_t f_steps = run(&c, &cf, QC, DEC, &ta, &st);
-    /* the float run's steps to within 2 % (q cuts a coarse step short of a row to 2 dt only, the
-     * float to what is left: 2 959 and 2 953 model steps of 8 000 here) */
-    assert_true(steps >= f_steps && steps < f_steps * 102u / 100u);
-    const int per_cycle = PAPER_PERIOD_US / DEC;
-    for (int k = 1; k + 1 <= QC - 1; ++k) { /* rows at each period's end: row (k + 1) per_cycle - 1 */
-        const double sq = (double)(xa[(k + 1) * per_cycle - 1] - xa[k * per_cycle - 1]) * 0x1p-40;
-        const double sf = (double)col_a[3][(k + 1) * per_cycle - 1] - (double)col_a[3][k * per_cycle - 1];
-        assert_true(sf > 2e-6);
-        assert_close(sq, sf, 1e-2 * sf);
-    }
+    coarse_q_against_float(&c, &cq, &co, 4u);
+    /* past 4.3 us the rod's kick leaves int32 (dt / 2 M_R at 2^-40): LuGre's 8 at 1 us */
+    assert_int_equal(ss_actuator_coarse_to_q(&c, 8u, &co, &bad), SS_OK);
+    assert_true(co.cfg.kick_rod_q40 > (uint32_t)INT32_MAX);
+    coarse_q_against_float(&c, &cq, &co, 8u);
 }
 
 int main(void)

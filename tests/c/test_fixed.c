@@ -284,6 +284,34 @@ static void test_exp_neg_every_input(void **unused)
     }
 }
 
+/* int32 times uint32 (the rod's kick, past 2^31 in a coarse step): the step's form and the M0+'s
+ * halves against the plain 64-bit product, at the edges and on a million pairs. */
+static void test_mul_signed_unsigned(void **unused)
+{
+    (void)unused;
+    static const int32_t sedge[] = {0, 1, -1, 0xFFFF, -0x10000, INT32_MAX, INT32_MIN, INT32_MIN + 1};
+    static const uint32_t edge[] = {0u,          1u,          0xFFFFu,     0x10000u,
+                                    0x7FFFFFFFu, 0x80000000u, 0xFFFF0000u, 0xFFFFFFFFu};
+    for (size_t i = 0; i < sizeof sedge / sizeof sedge[0]; ++i) {
+        for (size_t j = 0; j < sizeof edge / sizeof edge[0]; ++j) {
+            const int64_t p = (int64_t)sedge[i] * (int64_t)edge[j];
+            assert_true(ss_mul_s32_u32_s64(sedge[i], edge[j]) == p);
+            assert_true(ss_mul_s32_u32_s64_halves(sedge[i], edge[j]) == p);
+        }
+    }
+    uint32_t a = 2891336453u;
+    uint32_t b = 362436069u;
+    for (int i = 0; i < 1000000; ++i) {
+        a = a * 1664525u + 1013904223u;
+        b = b * 22695477u + 1u;
+        const int32_t sa = (int32_t)(a ^ 0x80000000u);
+        const int64_t p = (int64_t)sa * (int64_t)b;
+        if (ss_mul_s32_u32_s64(sa, b) != p || ss_mul_s32_u32_s64_halves(sa, b) != p) {
+            fail_msg("%d x %u: a different product", sa, b);
+        }
+    }
+}
+
 /* The Q32 argument: same bound plus the linearised tail (2^-33) and rounding (2^-31), and
  * 1 - exp(-x) resolved for x far below the Q16 quantum (the Masing branch after a reversal). */
 static void test_exp_neg_q32_error_bound(void **unused)
@@ -318,6 +346,7 @@ int main(void)
         cmocka_unit_test(test_ratio_x65536_by_reciprocal),
         cmocka_unit_test(test_exp_neg_error_bound),
         cmocka_unit_test(test_exp_neg_every_input),
+        cmocka_unit_test(test_mul_signed_unsigned),
         cmocka_unit_test(test_exp_neg_q32_error_bound),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
