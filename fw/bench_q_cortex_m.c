@@ -55,7 +55,10 @@ static void coarse_bench(const ss_port_link_t *link, const char *name, const ss_
     ss_fmt_put_i64(line, &n, model_steps);
     ss_fmt_put_str(line, &n, " model steps for ");
     ss_fmt_put_i64(line, &n, BENCH_STEPS);
-    ss_fmt_put_str(line, &n, ok ? " steps of dt\n" : " steps of dt (MODEL ERROR)\n");
+    /* where the slider ends, m at 2^-40: tests/python/test_firmware_q.py holds it to the host's */
+    ss_fmt_put_str(line, &n, " steps of dt, slider at ");
+    ss_fmt_put_i64(line, &n, st.x_slider_q40);
+    ss_fmt_put_str(line, &n, ok ? "\n" : " (MODEL ERROR)\n");
     print(link, line, n);
     n = 0;
     ss_fmt_put_str(line, &n, "bench q ");

@@ -84,3 +84,45 @@ def test_q_bench_config_is_the_converters():
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     assert (root / "fw" / "bench_q_config.h").read_text() == mod.header()
+
+
+@pytest.mark.parametrize("preset", ["cortex-m3", "cortex-m0plus"])
+def test_q_coarse_steps_on_the_target_are_the_hosts(preset):
+    # The q bench image (fw/bench_q_cortex_m.c) runs each law's coarse steps (LS 4 x 1.5 us, LuGre
+    # 8 x 1 us: a rod kick past int32, ss_mul_s32_u32_s64, whose ARMv6-M form is its own) over
+    # 20 000 steps of the paper's drive and prints the model steps taken and where the slider
+    # ends: integer arithmetic on both sides, so the host's q core must give both exactly
+    import re
+    import subprocess
+
+    from stickslip.hil.client import firmware_elf
+    from stickslip.model import Sawtooth, simulate
+
+    must_run = bool(os.environ.get("CI"))
+    if shutil.which("qemu-system-arm") is None and not must_run:
+        pytest.skip("qemu-system-arm is not installed (bash scripts/setup.sh --dev)")
+    try:
+        elf = firmware_elf(preset, "stickslip_q_bench_fw.elf")
+    except FileNotFoundError as e:
+        if must_run:
+            raise
+        pytest.skip(str(e))
+    cmd = ["qemu-system-arm", "-M", "mps2-an385", "-nographic", "-monitor", "none"]
+    cmd += ["-semihosting-config", "enable=on,target=native", "-serial", "stdio", "-kernel"]
+    out = subprocess.run([*cmd, str(elf)], capture_output=True, text=True, timeout=120).stdout
+    lines = re.findall(r"bench q (\w+) coarse (\d+): (\d+) model steps .*slider at (-?\d+)\n", out)
+    assert len(lines) == 2, out
+    assert "MODEL ERROR" not in out
+    for law, n, model_steps, slider_q40 in lines:
+        dt_s, cycles = (1.5e-6, 15) if law == "ls" else (1e-6, 10)  # 20 000 steps of each
+        r = simulate(
+            Sawtooth(cycles=cycles),
+            model=law,
+            dt_s=dt_s,
+            decimation=int(n),
+            variant="q",
+            coarse_steps=int(n),
+        )
+        assert len(r.t_s) - 1 == 20000 // int(n)
+        assert r.meta["model_steps"] == int(model_steps), law
+        assert round(r.x_slider_m[-1] * 2.0**40) == int(slider_q40), law
