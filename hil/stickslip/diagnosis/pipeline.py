@@ -18,6 +18,7 @@ from .. import dataset as D
 from ..model import ActuatorParams
 from .catalog import (
     BASE_LAW,
+    CAUSE_PARAMS,
     CAUSES,
     FIT_FROM_NOMINAL,
     FRICTION_LAW,
@@ -32,6 +33,7 @@ from .evidence import (
     explained_enough,
 )
 from .fit import (
+    FitResult,
     FitRun,
     Free,
     Model,
@@ -53,6 +55,7 @@ from .guards import (
     share_removed,
 )
 from .result import Candidate, Diagnosis
+from .screen import start_values
 from .session import (
     FIT_NFEV,
     REFINE_NFEV,
@@ -241,6 +244,7 @@ def diagnose(
         chosen, rounds = _select(s, base, singles)
         singles = rounds[0]  # with any the selection fitted later
         chosen = _backward(s, chosen)
+        chosen = _twins_separated(s, chosen)
         chosen = _with_refine_params(s, chosen)
         timing["selection_s"] = time.perf_counter() - t0
     finally:
@@ -568,6 +572,84 @@ def _with_refine_params(s: Session, final: Candidate) -> Candidate:
     return alt
 
 
+# A constant load on the slider and a friction asymmetry both make the step depend on the
+# direction; which of the two a diagnosis names can follow the law it is fitted under rather than
+# the data (BENCHMARKS.md, "A named load or asymmetry against its twin"). Each is therefore put
+# against the other, both fitted the same way, and named only when the data tell them apart by
+# TWIN_SEPARATION in the left-out runs' RMS error. Measured so fitted, the twins stood 1.7-370 x
+# apart wherever the diagnosis named the truth reliably (the independent LS-b singles, slew +
+# asymmetry 102-104, the own generator) and 1.07-1.17 x where it did not (GMS contacts, load +
+# hysteresis 101-103, slew + asymmetry 100 and 101): below 1.3 x the data do not force either.
+TWINS = {"external_load": "asymmetric_friction", "asymmetric_friction": "external_load"}
+TWIN_SEPARATION = 1.3
+NOT_SEPARATED = "not separated from"  # the verdict's reason, and the report's cue
+
+
+def _twins_separated(s: Session, final: Candidate) -> Candidate:
+    """A named cause that has a twin (TWINS: one pair), against the twin in its place, each
+    fitted the same way from the final law's calibration with the final model's other causes:
+    screened on it and fitted from there, every cause and the law's identifiable parameters free
+    (not from the final model, whose base parameters have taken up the cause's share of the
+    misfit and favour it: on GMS contacts the named twin then won every time, the true one or
+    not). The cause stays when the twin is out of its range or predicts the left-out runs
+    TWIN_SEPARATION x worse; the twin takes its place when it predicts them TWIN_SEPARATION x
+    better; in between neither is named, the final model is the best one without the cause, and
+    both verdicts say why (the report lists them, not separated)."""
+    for cause in final.causes:
+        twin = TWINS.get(cause)
+        if twin is None or twin in final.causes:
+            continue
+        cal = s.calibrated[final.law]
+        rest = [c for c in final.causes if c != cause]
+        fx = final.fit.model.effects
+        start = replace(
+            cal.fit.model,
+            effects=replace(
+                cal.fit.model.effects,
+                **{p.name: getattr(fx, p.name) for c in rest for p in CAUSE_PARAMS[c]},
+            ),
+            causes=tuple(rest),
+        )
+        from_cal = s.cand(
+            FitResult(Free(cal.fit.free.base, tuple(rest)), start, start.values(), 0.0, 0),
+            cal.val,
+            parent=cal,
+        )
+        screened = {x.cause: x for x in s.screen(from_cal, [cause, twin])}
+        s.say(f"putting {cause} against its twin {twin}, both from {final.law}'s calibration")
+        fits = {}
+        for c in (cause, twin):
+            m = replace(start, effects=replace(start.effects, **start_values(screened[c])))
+            causes = tuple(c if x == cause else x for x in final.causes)
+            fits[c] = s.submit_fit(m, Free(s.free_base[final.law], causes), FIT_NFEV, grid=False)
+        same, alt = (s.cand(*fitted(fits[c]), parent=final.parent) for c in (cause, twin))
+        had, got = same.val.rmse_m, alt.val.rmse_m
+        problems = range_problems(alt.fit, (twin,))
+        figures = f"{got * 1e9:.3g} nm on the left-out runs against {had * 1e9:.3g}"
+        if problems or got >= TWIN_SEPARATION * had:
+            s.say(f"{cause} kept: {twin} in its place " + ("; ".join(problems) or figures))
+            continue
+        if had >= TWIN_SEPARATION * got:
+            reason = (
+                f"replaced: its twin {twin}, fitted in its place from the {final.law} calibration "
+                f"as it was, predicts the left-out runs {had / got:.2f} x better ({figures})"
+            )
+            s.verdicts.setdefault(cause, Verdict()).reasons.append(reason)
+            s.say(f"{twin} replaces {cause}")
+            alt.verdict = final.verdict
+            return alt  # the other causes have no twin: there is one pair
+        note = (
+            f"each fitted in the other's place from the {final.law} calibration predicts the "
+            f"left-out runs within {TWIN_SEPARATION:g} x of it ({cause} {had * 1e9:.3g} nm, "
+            f"{twin} {got * 1e9:.3g} nm)"
+        )
+        for a, b in ((cause, twin), (twin, cause)):
+            s.verdicts.setdefault(a, Verdict()).reasons.append(f"{NOT_SEPARATED} {b}: {note}")
+        s.say(f"neither {cause} nor {twin} named: {figures}")
+        return _without(s, final, cause)
+    return final
+
+
 def _first_share_bar(causes: tuple[str, ...]) -> float:
     """The share a first cause in a model that stays unexplained must carry to be tested further:
     UNEXPLAINED_FINAL_SHARE, or FINAL_SHARE when each of its causes is LAW_SENSITIVE. The higher
@@ -732,6 +814,19 @@ def _spread(sizes: Iterable[float]) -> float:
     return 1.0 if hi == 0.0 else math.inf
 
 
+def _without(s: Session, chosen: Candidate, c: str) -> Candidate:
+    """The best model known without cause c of chosen: refitted without it from chosen's point,
+    or for a single cause its law's calibration where that scores better (a refit from the chosen
+    point keeps base parameters the cause bent, and a cause that only pulled the fit out of the
+    calibration's optimum would then look needed)."""
+    f, v = s.refit_without(chosen, c).result()
+    reduced = s.cand(f, v, parent=chosen.parent)
+    cal = s.calibrated.get(chosen.law)
+    if len(chosen.causes) == 1 and cal is not None and cal.score < reduced.score:
+        reduced = cal
+    return reduced
+
+
 def _final_weakness(
     s: Session, chosen: Candidate, c: str, explained: bool
 ) -> tuple[str, Candidate]:
@@ -742,14 +837,7 @@ def _final_weakness(
     Prandtl-Ishlinskii loop of ratio 0.05: 76 % of the LuGre calibration's error, the same size
     under every law, 0.12-0.14; false ones on clean data have spread 2.08 x and more from law
     to law)."""
-    f, v = s.refit_without(chosen, c).result()
-    reduced = s.cand(f, v, parent=chosen.parent)
-    # the model without it is the best one known without it: a refit from the chosen point keeps
-    # base parameters the cause bent, and a cause that only pulled the fit out of the
-    # calibration's optimum would then look needed
-    cal = s.calibrated.get(chosen.law)
-    if len(chosen.causes) == 1 and cal is not None and cal.score < reduced.score:
-        reduced = cal
+    reduced = _without(s, chosen, c)
     need = FINAL_SHARE if explained else UNEXPLAINED_FINAL_SHARE
     share = share_removed(reduced.mse_over_noise, chosen.mse_over_noise)
     if not s.better(chosen, reduced):

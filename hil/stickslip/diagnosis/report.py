@@ -27,7 +27,7 @@ from .guards import (  # noqa: E402
     FWD_SHARE,
     UNEXPLAINED_FINAL_SHARE,
 )
-from .pipeline import LAW_SPREAD_TIGHT  # noqa: E402
+from .pipeline import LAW_SPREAD_TIGHT, NOT_SEPARATED  # noqa: E402
 from .result import Diagnosis  # noqa: E402
 
 
@@ -206,6 +206,21 @@ def _verdict(causes: list[str], d: Diagnosis, law: str) -> str:
     return verdict
 
 
+def _not_separated(d: Diagnosis) -> str:
+    """The twins the final step could not tell apart (pipeline._twins_separated), or ""."""
+    pair = sorted(
+        c for c, v in d.verdicts.items() if any(r.startswith(NOT_SEPARATED) for r in v.reasons)
+    )
+    if not pair:
+        return ""
+    return (
+        " The data hold a force that depends on the direction of motion, "
+        + " or ".join(f"`{c}`" for c in pair)
+        + ", which these runs do not tell apart: neither is named (their figures are under "
+        "*Candidates*)."
+    )
+
+
 def _params_table(j: dict) -> list[str]:
     lines = [
         "| parameter | calibrated base | +- | extended | +- |",
@@ -235,7 +250,7 @@ def _markdown(d: Diagnosis, j: dict) -> str:
     if d.warnings:  # suspicions about the data itself come before anything read from it
         lines += ["**Warnings about the data:**", ""] + [f"- {w}" for w in d.warnings] + [""]
     causes = j["causes"]
-    lines += [_verdict(causes, d, d.chosen.law), ""]
+    lines += [_verdict(causes, d, d.chosen.law) + _not_separated(d), ""]
     if not d.causes_sought:
         lines += [
             f"The calibrated {d.base.law} model is within {UNEXPLAINED_RMSE_OVER_NOISE:g} x the "
