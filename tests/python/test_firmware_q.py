@@ -20,18 +20,23 @@ from stickslip.hil.firmware_q import (
 )
 
 
-@pytest.mark.parametrize("preset", ["cortex-m3", "cortex-m0plus"])
-def test_q_firmware_staircase_bit_exact(preset):
-    # CI installs QEMU and builds the firmware (scripts/setup.sh --dev): there this test must run
+def _image_or_skip(find, *args) -> Path:
+    """The firmware image find(*args) names, or a skip where QEMU or the image is missing; CI
+    installs QEMU and builds the firmware (scripts/setup.sh --dev): there the test must run."""
     must_run = bool(os.environ.get("CI"))
     if shutil.which("qemu-system-arm") is None and not must_run:
         pytest.skip("qemu-system-arm is not installed (bash scripts/setup.sh --dev)")
     try:
-        elf = q_firmware_elf(preset)
+        return find(*args)
     except FileNotFoundError as e:
         if must_run:
             raise
         pytest.skip(str(e))
+
+
+@pytest.mark.parametrize("preset", ["cortex-m3", "cortex-m0plus"])
+def test_q_firmware_staircase_bit_exact(preset):
+    elf = _image_or_skip(q_firmware_elf, preset)
     run = run_q_firmware(elf)
     assert run.end == ["#", "end", "status=0", "ok"]
     # the firmware plays the configs the host's converter makes of the same drive, and sends the
@@ -59,15 +64,7 @@ def test_q_check_image_runs_every_entry_point_on_the_m0plus():
 
     from stickslip.hil.client import firmware_elf
 
-    must_run = bool(os.environ.get("CI"))
-    if shutil.which("qemu-system-arm") is None and not must_run:
-        pytest.skip("qemu-system-arm is not installed (bash scripts/setup.sh --dev)")
-    try:
-        elf = firmware_elf("cortex-m0plus", "ss_q_check.elf")
-    except FileNotFoundError as e:
-        if must_run:
-            raise
-        pytest.skip(str(e))
+    elf = _image_or_skip(firmware_elf, "cortex-m0plus", "ss_q_check.elf")
     cmd = ["qemu-system-arm", "-M", "mps2-an385", "-nographic", "-semihosting", "-monitor"]
     r = subprocess.run([*cmd, "none", "-serial", "null", "-kernel", str(elf)], timeout=60)
     assert r.returncode == 0
@@ -98,15 +95,7 @@ def test_q_coarse_steps_on_the_target_are_the_hosts(preset):
     from stickslip.hil.client import firmware_elf
     from stickslip.model import Sawtooth, simulate
 
-    must_run = bool(os.environ.get("CI"))
-    if shutil.which("qemu-system-arm") is None and not must_run:
-        pytest.skip("qemu-system-arm is not installed (bash scripts/setup.sh --dev)")
-    try:
-        elf = firmware_elf(preset, "stickslip_q_bench_fw.elf")
-    except FileNotFoundError as e:
-        if must_run:
-            raise
-        pytest.skip(str(e))
+    elf = _image_or_skip(firmware_elf, preset, "stickslip_q_bench_fw.elf")
     cmd = ["qemu-system-arm", "-M", "mps2-an385", "-nographic", "-monitor", "none"]
     cmd += ["-semihosting-config", "enable=on,target=native", "-serial", "stdio", "-kernel"]
     out = subprocess.run([*cmd, str(elf)], capture_output=True, text=True, timeout=120).stdout
