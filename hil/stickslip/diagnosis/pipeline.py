@@ -577,9 +577,11 @@ def _with_refine_params(s: Session, final: Candidate) -> Candidate:
 # the data (BENCHMARKS.md, "A named load or asymmetry against its twin"). Each is therefore put
 # against the other, both fitted the same way, and named only when the data tell them apart by
 # TWIN_SEPARATION in the left-out runs' RMS error. Measured so fitted, the twins stood 1.7-370 x
-# apart wherever the diagnosis named the truth reliably (the independent LS-b singles, slew +
-# asymmetry 102-104, the own generator) and 1.07-1.17 x where it did not (GMS contacts, load +
-# hysteresis 101-103, slew + asymmetry 100 and 101): below 1.3 x the data do not force either.
+# apart wherever the diagnosis named the truth reliably (the independent table's singles on LuGre
+# contacts, slew + asymmetry 102-104, the own generator) and 0.77-1.28 x where it did not or by a
+# hair (GMS contacts, load + hysteresis 101-103, slew + asymmetry 100 and 101, the asymmetry on
+# LS-b contacts): there the data force neither (BENCHMARKS.md, "A load or an asymmetry the runs
+# do not separate is not named").
 TWINS = {"external_load": "asymmetric_friction", "asymmetric_friction": "external_load"}
 TWIN_SEPARATION = 1.3
 NOT_SEPARATED = "not separated from"  # the verdict's reason, and the report's cue
