@@ -141,11 +141,18 @@ SS_FORCE_INLINE int32_t slider_kicked_q28(const ss_actuator_config_q_t *cfg, con
     return ss_sat32(st->v_slider_q28 + ss_shr_round(ss_mul_i64_i32(on_slider, cfg->kick_slider_q40), 36));
 }
 
+/* The rod's velocity after half a step of force_q24 on it, the other way (a coarse step's kick_rod
+ * reaches past int32: ss_mul_s32_u32_s64). */
+SS_FORCE_INLINE int32_t rod_kicked_q28(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
+                                       int32_t force_q24)
+{
+    return ss_sat32(st->v_rod_q28 - ss_shr_round(ss_mul_s32_u32_s64(force_q24, cfg->kick_rod_q40), 36));
+}
+
 /* Half a step of the friction force on both bodies and of the load on the slider. */
 static void kick(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st)
 {
-    st->v_rod_q28 =
-        ss_sat32(st->v_rod_q28 - ss_shr_round(ss_mul_s32_u32_s64(st->force_q24, cfg->kick_rod_q40), 36));
+    st->v_rod_q28 = rod_kicked_q28(cfg, st, st->force_q24);
     st->v_slider_q28 = slider_kicked_q28(cfg, st, st->force_q24);
     const ss_effects_config_q_t *e = &cfg->effects;
     if (e->base_kick_q40 != 0) {
@@ -426,9 +433,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     if (compliance_q56 == 0) {
         kick(cfg, st);
     } else {
-        st->v_rod_q28 = ss_sat32(
-            st->v_rod_q28 -
-            ss_shr_round(ss_mul_s32_u32_s64(ss_sat32((int64_t)st->force_q24 - f0), cfg->kick_rod_q40), 36));
+        st->v_rod_q28 = rod_kicked_q28(cfg, st, ss_sat32((int64_t)st->force_q24 - f0));
         st->v_slider_q28 = slider_kicked_q28(cfg, st, st->force_q24);
     }
     st->steps++;
