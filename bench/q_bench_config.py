@@ -19,20 +19,18 @@ LS_COARSE_N = 4  # 6 us: a q config holds dt / 2 M_R to 8.6 us for Table I's rod
 COARSE_N = 8
 
 
+def coarse_q(cfg, n: int):
+    """ss_actuator_coarse_to_q of cfg's coarse steps of n."""
+    co = N.ActuatorCoarseQ()
+    N.check(N.lib.ss_actuator_coarse_to_q(C.byref(cfg), n, C.byref(co), None), "coarse")
+    return co
+
+
 def header() -> str:
     cfg = N.table1_actuator()
     cfg.dt_s = C.c_float(LS_STEP_S).value
-    q = N.config_to_q(cfg)
     lugre = N.table1_actuator()
     lugre.friction_model = N.SS_FRICTION_LUGRE
-    coarse = N.ActuatorCoarseQ()
-    N.check(
-        N.lib.ss_actuator_coarse_to_q(C.byref(lugre), COARSE_N, C.byref(coarse), None), "coarse"
-    )
-    ls_coarse = N.ActuatorCoarseQ()
-    N.check(
-        N.lib.ss_actuator_coarse_to_q(C.byref(cfg), LS_COARSE_N, C.byref(ls_coarse), None), "coarse"
-    )
     return "\n".join(
         [
             "/* Table I, LS, at a step of 1.5 us as the host converter makes it",
@@ -44,20 +42,14 @@ def header() -> str:
             '#include "ss_actuator_q.h"',
             "",
             "/* clang-format off */",
-            "#define SS_BENCH_Q_LS_CONFIG \\",
-            *[line + " \\" for line in ("{\n" + N.c_initializer(q, "")).splitlines()],
-            "}",
+            *N.c_define("SS_BENCH_Q_LS_CONFIG", N.config_to_q(cfg)),
             "",
             f"/* Table I, LS, dt 1.5 us: coarse steps of {LS_COARSE_N} "
             "(ss_actuator_coarse_to_q) */",
-            "#define SS_BENCH_Q_LS_COARSE \\",
-            *[line + " \\" for line in ("{\n" + N.c_initializer(ls_coarse, "")).splitlines()],
-            "}",
+            *N.c_define("SS_BENCH_Q_LS_COARSE", coarse_q(cfg, LS_COARSE_N)),
             "",
             f"/* Table I, LuGre, dt 1 us: coarse steps of {COARSE_N} (ss_actuator_coarse_to_q) */",
-            "#define SS_BENCH_Q_LUGRE_COARSE \\",
-            *[line + " \\" for line in ("{\n" + N.c_initializer(coarse, "")).splitlines()],
-            "}",
+            *N.c_define("SS_BENCH_Q_LUGRE_COARSE", coarse_q(lugre, COARSE_N)),
             "/* clang-format on */",
             "",
             "#endif /* SS_BENCH_Q_CONFIG_H */",

@@ -903,6 +903,13 @@ def c_value(v: object) -> str:
     return str(int(v))  # type: ignore[call-overload]
 
 
+def c_define(name: str, s: C.Structure) -> list[str]:
+    """The lines of a C macro NAME holding c_initializer(s): what a header hands a firmware
+    build to compile in (model_file.c_header, bench/q_bench_config.py)."""
+    body = ("{\n" + c_initializer(s, "") + "\n}").splitlines()
+    return [f"#define {name} \\", *[line + " \\" for line in body[:-1]], body[-1]]
+
+
 def c_initializer(s: C.Structure, indent: str) -> str:
     """A C99 designated initialiser of a ctypes mirror of a library struct, field by field
     (model_file.c_header)."""

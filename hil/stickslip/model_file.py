@@ -183,10 +183,8 @@ def c_header(m: ModelFile, guard: str = "SS_MODEL_H") -> str:
         '#include "ss_actuator.h"',
         "",
         "/* ss_actuator_config_f32_t */",
-        "#define SS_MODEL_CONFIG_F32 \\",
+        *N.c_define("SS_MODEL_CONFIG_F32", m.config()),
     ]
-    body = "{\n" + N.c_initializer(m.config(), "") + "\n}"
-    out += [line + " \\" for line in body.splitlines()[:-1]] + [body.splitlines()[-1]]
     if m.law in Q_LAWS:  # the node's parameter table in id order (docs/protocol.md)
         out += ["", "/* the node's parameters in id order (app/ss_node_params.def) */"]
         out.append("#define SS_MODEL_NODE_PARAMS \\")
@@ -201,9 +199,7 @@ def c_header(m: ModelFile, guard: str = "SS_MODEL_H") -> str:
         )
     else:
         out += ['#include "ss_actuator_q.h"', "", "/* ss_actuator_config_q_t */"]
-        out.append("#define SS_MODEL_CONFIG_Q \\")
-        body = "{\n" + N.c_initializer(q, "") + "\n}"
-        out += [line + " \\" for line in body.splitlines()[:-1]] + [body.splitlines()[-1]]
+        out += N.c_define("SS_MODEL_CONFIG_Q", q)
     out += ["", f"#endif /* {guard} */", ""]
     return "\n".join(out)
 
