@@ -17,6 +17,16 @@ static void print(const ss_port_link_t *link, const char *line, size_t n)
     (void)link->write(link->ctx, (const uint8_t *)line, n);
 }
 
+/* "bench q NAME coarse N: ", each coarse line's start */
+static void put_coarse_name(char *line, size_t *n, const char *name, uint32_t coarse_n)
+{
+    ss_fmt_put_str(line, n, "bench q ");
+    ss_fmt_put_str(line, n, name);
+    ss_fmt_put_str(line, n, " coarse ");
+    ss_fmt_put_i64(line, n, coarse_n);
+    ss_fmt_put_str(line, n, ": ");
+}
+
 /* With coarse steps where the contact sticks (LS 4 x 1.5 us, LuGre 8 x 1 us), 2 where it rings
  * (bench_q_config.h; docs/model.md): the same BENCH_STEPS steps of model time in fewer model steps.
  * The player advances every step of dt (a coarse step advances a copy of it n times) but is read
@@ -47,11 +57,7 @@ static void coarse_bench(const ss_port_link_t *link, const char *name, const ss_
     const uint64_t model_ns = ((uint64_t)BENCH_STEPS * (((uint64_t)cfg->dt_q40 * 1000000000u) >> 20)) >> 20;
     char line[160];
     size_t n = 0;
-    ss_fmt_put_str(line, &n, "bench q ");
-    ss_fmt_put_str(line, &n, name);
-    ss_fmt_put_str(line, &n, " coarse ");
-    ss_fmt_put_i64(line, &n, co->n);
-    ss_fmt_put_str(line, &n, ": ");
+    put_coarse_name(line, &n, name, co->n);
     ss_fmt_put_i64(line, &n, model_steps);
     ss_fmt_put_str(line, &n, " model steps for ");
     ss_fmt_put_i64(line, &n, BENCH_STEPS);
@@ -61,11 +67,7 @@ static void coarse_bench(const ss_port_link_t *link, const char *name, const ss_
     ss_fmt_put_str(line, &n, ok ? "\n" : " (MODEL ERROR)\n");
     print(link, line, n);
     n = 0;
-    ss_fmt_put_str(line, &n, "bench q ");
-    ss_fmt_put_str(line, &n, name);
-    ss_fmt_put_str(line, &n, " coarse ");
-    ss_fmt_put_i64(line, &n, co->n);
-    ss_fmt_put_str(line, &n, ": ");
+    put_coarse_name(line, &n, name, co->n);
     ss_fmt_put_i64(line, &n, (int64_t)((model_instructions * 1000u + model_ns / 2u) / model_ns));
     ss_fmt_put_str(line, &n, " instructions per microsecond of model time (coarse steps)\n");
     print(link, line, n);
