@@ -639,10 +639,11 @@ def test_a_named_load_or_asymmetry_stands_only_when_its_twin_is_1_3_x_worse(monk
     )
     assert PL._twins_separated(s, hyst) is hyst and fits == []
     both = s.cand(
-        _fit("gms", Effects(load_n=0.4, friction_asymmetry=0.1), TUPLE_BOTH),
+        _fit(
+            "gms",
+            Effects(load_n=0.4, friction_asymmetry=0.1),
+            ("external_load", "asymmetric_friction"),
+        ),
         Evaluation(30e-9, 0, 1e5, 1000),
     )
     assert PL._twins_separated(s, both) is both and fits == []
-
-
-TUPLE_BOTH = ("external_load", "asymmetric_friction")
