@@ -134,10 +134,10 @@
     }, \
     .n = 4, \
     .v_rel_max_q28 = 268435, \
-    .ring_max_q40 = 330, \
-    .ring_max_2_q40 = 165, \
+    .ring_max_q40 = 792, \
+    .ring_max_2_q40 = 396, \
     .v_rel_mid_max_q28 = 2684355, \
-    .ring_mid_max_q40 = 1649, \
+    .ring_mid_max_q40 = 3299, \
     .compliance_q56 = 346430741, \
     .pad = 0, \
 }

@@ -659,8 +659,8 @@ ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uin
     co->n = n;
     co->dt_s = dt;
     co->v_rel_max_m_per_s = SS_COARSE_V_REL_MAX_M_PER_S;
-    co->v_ring_max_m_per_s = SS_COARSE_V_RING_MAX_M_PER_S;
     const int ls = cfg->friction_model == SS_FRICTION_LS;
+    co->v_ring_max_m_per_s = ls ? SS_COARSE_LS_V_RING_MAX_M_PER_S : SS_COARSE_V_RING_MAX_M_PER_S;
     co->v_rel_mid_max_m_per_s = ls ? SS_COARSE_LS_V_REL_MID_MAX_M_PER_S : SS_COARSE_V_REL_MID_MAX_M_PER_S;
     co->v_ring_mid_max_m_per_s = ls ? SS_COARSE_LS_V_RING_MID_MAX_M_PER_S : SS_COARSE_V_RING_MID_MAX_M_PER_S;
     rod_flow(cfg, dt, co->phi);
