@@ -133,9 +133,9 @@
         .rod_w2dt2_q28 = 0, \
     }, \
     .n = 4, \
-    .v_rel_max_q28 = 268435, \
-    .ring_max_q40 = 792, \
-    .ring_max_2_q40 = 396, \
+    .v_rel_max_q28 = 805306, \
+    .ring_max_q40 = 1319, \
+    .ring_max_2_q40 = 660, \
     .v_rel_mid_max_q28 = 2684355, \
     .ring_mid_max_q40 = 3299, \
     .compliance_q56 = 346430741, \

@@ -96,14 +96,16 @@ ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_ac
  * step's form, holds as well (the ring's 120 points a period at 1 us; the rod's 69 kHz mode turns
  * 0.87 rad in it). Its bounds: the relative velocity (below the slip after a fall, -21 mm/s on
  * the paper's drive) and the rod's ring (LuGre 0.46 nm, LS 2.3 nm); each law's chosen on a grid
- * inside the region that holds 0.1 % over issue 17's drive matrix (docs/model.md). LS's coarse
- * step takes a rod ring of 0.28 nm (0.12 mm/s): its contact's ring keeps most of its slow edge
- * out of the coarse tier anyway, and these bounds take 11 % fewer steps than LuGre's would. */
+ * inside the region that holds 0.1 % over issue 17's drive matrix (docs/model.md). LS's own
+ * coarse bounds: its slider rings on the contact through the slow edge (|v_rel| 1-4 mm/s), which
+ * its coarse step takes in an exact flow (ss_actuator_f32.c, slider_flow), so that it needs no
+ * stick, only a contact that rings within 3 mm/s, and a rod ring of 0.46 nm (0.2 mm/s). */
 #define SS_COARSE_V_REL_MID_MAX_M_PER_S 5e-3f
 #define SS_COARSE_V_RING_MID_MAX_M_PER_S 2e-4f
 #define SS_COARSE_LS_V_REL_MID_MAX_M_PER_S 1e-2f
 #define SS_COARSE_LS_V_RING_MID_MAX_M_PER_S 1e-3f
-#define SS_COARSE_LS_V_RING_MAX_M_PER_S 1.2e-4f
+#define SS_COARSE_LS_V_RING_MAX_M_PER_S 2e-4f
+#define SS_COARSE_LS_V_REL_MAX_M_PER_S 3e-3f
 
 /* Made by ss_actuator_coarse_init_f32 from the actuator's config: init it again after a change of
  * the config's dt, piezo or rod (its flow is theirs). */

@@ -379,28 +379,34 @@ static float drift_with_corner(const ss_actuator_config_f32_t *cfg, ss_actuator_
 
 /* Where the relative motion turned inside the step (the rod's 69 kHz ringing after the fall turns
  * it some 70 times a cycle), into c->turn_m and c->turn_frac (0: no turn): the relative velocity
- * linear from its value at the step's start (c->v_start, before the opening kick) to the drift's
- * end less the same kick (the closing one, its force taken as the opening's; kick_dv the opening
- * kick's change of the relative velocity), the two averaging to the drift's. LS's Masing memory
+ * linear from its value at the step's start (c->v_start, before the opening kick) to p1, its end
+ * before the closing kick's change of force (a kicked step: the drift's end less the same kick as
+ * the opening one, the two averaging to the drift's; LS's coarse step: its slider flow's). LS's Masing memory
  * keeps that turning point; taken at the step's end, the loop it closes was up to (w dt)^2 / 8 of
  * the ring short, and LS's per-cycle error over the drive matrix was 0.087 % at 1 us and 0.31 % at
  * 1.5 us (docs/model.md). The drift's own velocities turn in most steps of a stick phase, where the
  * kicks alone flip the sign. GMS's elements keep the same memory (its position error at 1 us
  * against 0.125 us, 6.6 -> 0.6 nm RMS on the diagnosis' drives). LuGre keeps no turning point, and
  * the split made its error grow (0.056 % -> 0.127 % at 1 us). */
-SS_FORCE_INLINE void turn_inside(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
-                                 float kick_dv, carry_t *c)
+SS_FORCE_INLINE void turn_between(const ss_actuator_config_f32_t *cfg, float p1, carry_t *c)
 {
     c->turn_m = 0.0f;
     c->turn_frac = 0.0f;
     if (cfg->friction_model != SS_FRICTION_LUGRE) {
-        const float p1 = (st->v_rod_m_per_s - st->v_slider_m_per_s) - kick_dv;
         const float frac = c->v_start / (c->v_start - p1);
         if (c->v_start * p1 < 0.0f && frac < 1.0f) { /* frac rounds to 1 where p1 is tiny: no turn */
             c->turn_frac = frac;
             c->turn_m = 0.5f * c->v_start * frac * c->dt;
         }
     }
+}
+
+/* turn_between's end velocity for a kicked step: the drift's less the closing kick, taken as the
+ * opening one (kick_dv) */
+SS_FORCE_INLINE void turn_inside(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
+                                 float kick_dv, carry_t *c)
+{
+    turn_between(cfg, (st->v_rod_m_per_s - st->v_slider_m_per_s) - kick_dv, c);
 }
 
 /* A step's first phase, a step of dt with the rod's flow phi over it (cfg's dt and the state's
@@ -658,8 +664,8 @@ ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uin
     }
     co->n = n;
     co->dt_s = dt;
-    co->v_rel_max_m_per_s = SS_COARSE_V_REL_MAX_M_PER_S;
     const int ls = cfg->friction_model == SS_FRICTION_LS;
+    co->v_rel_max_m_per_s = ls ? SS_COARSE_LS_V_REL_MAX_M_PER_S : SS_COARSE_V_REL_MAX_M_PER_S;
     co->v_ring_max_m_per_s = ls ? SS_COARSE_LS_V_RING_MAX_M_PER_S : SS_COARSE_V_RING_MAX_M_PER_S;
     co->v_rel_mid_max_m_per_s = ls ? SS_COARSE_LS_V_REL_MID_MAX_M_PER_S : SS_COARSE_V_REL_MID_MAX_M_PER_S;
     co->v_ring_mid_max_m_per_s = ls ? SS_COARSE_LS_V_RING_MID_MAX_M_PER_S : SS_COARSE_V_RING_MID_MAX_M_PER_S;
@@ -696,6 +702,32 @@ SS_FORCE_INLINE uint32_t coarse_allowed(const ss_actuator_config_f32_t *cfg,
                : 0u;
 }
 
+/* LS's slider in a coarse step: on the contact's tangent stiffness kt (N/m), whose other end rides
+ * on the rod at w (m/s, its mean over the step), under the force it starts with (a_s = (F0 + load)
+ * / M_C): M_C u'' = F0 + load + kt (w t - u), u(0) = 0, u'(0) = v_s0, solved exactly over dt. With
+ * om^2 = kt / M_C: u = a_s (1 - cos om dt) / om^2 + w dt + (v_s0 - w) sin(om dt) / om, and u' =
+ * a_s sin(om dt) / om + w + (v_s0 - w) cos(om dt); the three functions in series in x = (om dt)^2
+ * to x^3 (the next term below x^4 / 8! = 2.5e-9 at x = 0.5; past that, and for kt <= 0, the
+ * kick-drift-kick's u = v_s0 dt + a_s dt^2 / 2). The kick-drift-kick is this flow to first order in
+ * x, its ring's frequency x / 24 high: on LS's slider, which rings at 4.3 kHz through a stick (x =
+ * 0.026 in 6 us), that put 0.1-0.2 % into a cycle's step over the slow edge's eight periods
+ * (docs/model.md). */
+SS_FORCE_INLINE void slider_flow(float kt, float inv_mc, float dt, float a_s, float v_s0, float w, float *u,
+                                 float *ud)
+{
+    const float x = kt * dt * dt * inv_mc;
+    float cos_x = 1.0f;
+    float sin_over = dt;             /* sin(w dt) / w */
+    float one_less = 0.5f * dt * dt; /* (1 - cos(w dt)) / w^2 */
+    if (x > 0.0f && x < 0.5f) {
+        cos_x = 1.0f - 0.5f * x * (1.0f - x / 12.0f * (1.0f - x / 30.0f));
+        sin_over = dt * (1.0f - x / 6.0f * (1.0f - x / 20.0f * (1.0f - x / 42.0f)));
+        one_less = dt * dt * (0.5f - x / 24.0f * (1.0f - x / 30.0f * (1.0f - x / 56.0f)));
+    }
+    *u = a_s * one_less + w * dt + (v_s0 - w) * sin_over;
+    *ud = a_s * sin_over + w + (v_s0 - w) * cos_x;
+}
+
 /* A coarse step over dt (the rod's flow phi over it): the friction reaches the rod through its
  * flow, not as kicks. The rod's 69 kHz mode turns 1.7 rad in 4 us and 3.5 rad in 8 us, where
  * kicks F dt / 2 at the ends ring it (the fine step's kicks, taken coarse, held 0.1 % at 4 us
@@ -703,8 +735,13 @@ SS_FORCE_INLINE uint32_t coarse_allowed(const ss_actuator_config_f32_t *cfg,
  * the flow (the rod's anchor shifted by -F0 / k, the static deflection it makes), and only its
  * change over the step comes as a kick, -(F1 - F0) dt / 2 on the rod at the end; in a stick the
  * change is small. The slider is kicked as in a fine step (F0 dt / 2, drift, F1 dt / 2). F1 is
- * linearised in dF/dv about the velocity the step ends with if the force stays F0. A base
- * (whose kicks this step does not make) takes the fine step's form over dt. */
+ * linearised in dF/dv about the velocity the step ends with if the force stays F0. LS's contact
+ * rings through a stick, and its force changes over the step: its rod's anchor ramps to the
+ * deflection of f_rod = F0 + kt v_rel dt instead (held, the change as a jump at the end rang the
+ * rod at 0.1-0.19 mm/s through the slow edge, the fine steps' own ring 0.05-0.1), its slider takes
+ * its exact flow on the contact (slider_flow), and F1 is linearised about f_ref, the force that
+ * flow ends with; each body is kicked by F1's departure from its own reference. A base (whose
+ * kicks this step does not make) takes the fine step's form over dt. */
 SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
                                              const float phi[4], float dt, float drive_v)
 {
@@ -724,36 +761,57 @@ SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg
     c.v_start = st->v_rod_m_per_s - st->v_slider_m_per_s;
     c.f0 = f0;
 
-    const float kick_dv = (f0 + load) * c.inv_mc * half; /* the opening kick's relative dv */
-    st->v_slider_m_per_s += kick_dv;
-    const float shift = f0 / cfg->piezo_stiffness_n_per_m;
-    const float a0 = st->x_p_m - shift; /* no base: its position stays 0 */
+    c.kick_per_n = half * (c.inv_mr + c.inv_mc);
+    const float a0 = st->x_p_m - f0 / cfg->piezo_stiffness_n_per_m; /* no base: its position stays 0 */
     const float x_rod0 = st->x_rod_m;
     const float x_p1 =
         ss_effects_drive_inline_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, dt);
-    rod_drift(cfg, phi, dt, a0, x_p1 - shift, 0.0f, &st->x_rod_m, &st->v_rod_m_per_s);
-    const float dx_slider = st->v_slider_m_per_s * dt;
-    c.dx_rel = (st->x_rod_m - x_rod0) - dx_slider;
-    turn_inside(cfg, st, kick_dv, &c); /* LS's: the slider's 4 kHz ring turns it in a stick */
-    position_add(&st->x_slider, dx_slider);
+    float f_rod = f0;       /* the rod's closing kick is F1 - f_rod, */
+    float f_ref = f0;       /* F1 is linearised about f_ref, */
+    float f_slider = -load; /* the slider's closing kick F1 - f_slider (held: F1 + load) */
+    if (cfg->friction_model == SS_FRICTION_LS) {
+        const float kt = st->fr.ls.kt_n_per_m;
+        f_rod = f0 + kt * c.v_start * dt;
+        rod_drift(cfg, phi, dt, a0, x_p1 - f_rod / cfg->piezo_stiffness_n_per_m, 0.0f, &st->x_rod_m,
+                  &st->v_rod_m_per_s);
+        const float dx_rod = st->x_rod_m - x_rod0;
+        float u;
+        float ud;
+        slider_flow(kt, c.inv_mc, dt, (f0 + load) * c.inv_mc, st->v_slider_m_per_s, dx_rod / dt, &u, &ud);
+        c.dx_rel = dx_rod - u;
+        f_ref = f0 + kt * c.dx_rel;
+        f_slider = f_ref; /* the flow took F0 + load over the whole step */
+        turn_between(cfg, st->v_rod_m_per_s - ud, &c);
+        position_add(&st->x_slider, u);
+        st->v_slider_m_per_s = ud;
+        c.v_free = st->v_rod_m_per_s - ud - (f_ref - f_rod) * c.inv_mr * half;
+    } else {
+        const float kick_dv = (f0 + load) * c.inv_mc * half; /* the opening kick's relative dv */
+        st->v_slider_m_per_s += kick_dv;
+        rod_drift(cfg, phi, dt, a0, x_p1 - f0 / cfg->piezo_stiffness_n_per_m, 0.0f, &st->x_rod_m,
+                  &st->v_rod_m_per_s);
+        const float dx_slider = st->v_slider_m_per_s * dt;
+        c.dx_rel = (st->x_rod_m - x_rod0) - dx_slider;
+        turn_inside(cfg, st, kick_dv, &c);
+        position_add(&st->x_slider, dx_slider);
+        c.v_free = st->v_rod_m_per_s - st->v_slider_m_per_s - (f0 + load) * c.inv_mc * half;
+    }
     st->x_p_m = x_p1;
     st->drive_v = drive_v;
 
-    c.kick_per_n = half * (c.inv_mr + c.inv_mc);
-    c.v_free = st->v_rod_m_per_s - st->v_slider_m_per_s - (f0 + load) * c.inv_mc * half;
     ss_friction_config_f32_t scaled;
     const ss_friction_config_f32_t *fr = friction_config(cfg, st, &scaled);
     friction_advance(cfg, st, fr, &c);
     ss_friction_slopes_f32_t slopes;
     const float f_free = friction_force(cfg, st, fr, &c, &slopes);
-    /* F1 = f_free - dF/dv (F1 - F0) (dt / 2 M_R + dt / 2 M_C) */
+    /* F1 = f_free - dF/dv (F1 - f_ref) (dt / 2 M_R + dt / 2 M_C) */
     const float g = slopes.dfdv_ns_per_m * c.kick_per_n;
-    st->force_n = (1.0f + g > 0.1f) ? (f_free + g * f0) / (1.0f + g) : f_free;
+    st->force_n = (1.0f + g > 0.1f) ? (f_free + g * f_ref) / (1.0f + g) : f_free;
     if (cfg->effects.thermal_coeff_per_j != 0.0f) {
         ss_effects_heat_f32(&cfg->effects, &st->fx, 0.5f * (f0 + st->force_n) * c.dx_rel, dt);
     }
-    st->v_rod_m_per_s -= (st->force_n - f0) * c.inv_mr * half;
-    st->v_slider_m_per_s += (st->force_n + load) * c.inv_mc * half;
+    st->v_rod_m_per_s -= (st->force_n - f_rod) * c.inv_mr * half;
+    st->v_slider_m_per_s += (st->force_n - f_slider) * c.inv_mc * half;
     st->steps++;
     return SS_OK;
 }

@@ -293,15 +293,79 @@ SS_NOINLINE void corner_response(const ss_actuator_config_q_t *cfg, int32_t h_q4
         ss_shr_round(ss_mul_s32_s64((int32_t)ss_shr_round(hw * p0, 30), cfg->inv_dt_q47), 47 - SS_QF_DXDT);
 }
 
+/* 1/12, 1/20, 1/30, 1/42 and 1/56 in Q30, rounded: the slider flow's series */
+#define SS_ACT_Q_12TH_Q30 89478485
+#define SS_ACT_Q_20TH_Q30 53687091
+#define SS_ACT_Q_30TH_Q30 35791394
+#define SS_ACT_Q_42ND_Q30 25565282
+#define SS_ACT_Q_56TH_Q30 19173961
+
+/* 1 - a b (1 - c d) in Q30: the series' nested terms (a, b, c, d in Q30, each below 2^31) */
+SS_FORCE_INLINE int64_t nested_q30(int64_t a, int64_t b, int64_t inner)
+{
+    return SS_Q30_ONE - ss_shr_round(ss_shr_round(a * b, 30) * inner, 30);
+}
+
+/* LS's contact force for a relative displacement dx (m at 2^-40) on its tangent stiffness
+ * kt = sigma0 kt_q30: N at 2^-24 (N/m times m at 2^-40 is N at 2^-40; saturated at 128 N before
+ * the product with kt, so that it stays within 64 bits) */
+SS_FORCE_INLINE int64_t ls_contact_q24(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
+                                       int32_t dx_q40)
+{
+    const int32_t f = ss_sat32(ss_shr_round(ss_mul_s32_s64(dx_q40, cfg->friction.sigma0_n_per_m), 16));
+    return ss_shr_round(ss_mul_s32_s64(f, st->fr.ls.kt_q30), 30);
+}
+
+/* LS's slider in a coarse step, as the float family's slider_flow (ss_actuator_f32.c): its exact
+ * flow on the contact's tangent stiffness kt, whose other end rides on the rod (dx_rod over dt),
+ * under the force F0 + load (dv_half: its half kick, m/s at 2^-28), from v_s0 (m/s at 2^-28): the
+ * slider's travel u (m at 2^-40) and end velocity ud (m/s at 2^-28). x = kt dt^2 / M_C in Q30 from
+ * sigma0 dt (N s/m at 2^-16, saturated: past 32 768 N s/m x is far beyond 0.5) times 2 dt / (2 M_C)
+ * (kick_slider_q40), times kt / sigma0; past x = 0.5 (and for x <= 0) the kick-drift-kick's flow. */
+SS_FORCE_INLINE void slider_flow_q(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
+                                   int32_t dx_rod, int64_t dv_half, int64_t v_s0, int32_t *u_q40,
+                                   int32_t *ud_q28)
+{
+    const int32_t sigma0_dt =
+        ss_sat32(ss_shr_round(ss_mul_s32_s64(cfg->friction.sigma0_n_per_m, cfg->dt_q40), 24));
+    const int64_t x_full = ss_shr_round(ss_mul_s32_s64(sigma0_dt, cfg->kick_slider_q40), 25);
+    const int64_t x = (x_full > INT32_MAX) ? SS_Q30_ONE : ss_shr_round(x_full * st->fr.ls.kt_q30, 30);
+    int64_t cos_x = SS_Q30_ONE;    /* cos(om dt), om^2 = kt / M_C */
+    int64_t sin_over = SS_Q30_ONE; /* sin(om dt) / (om dt) */
+    int64_t one_less = SS_Q30_ONE; /* 2 (1 - cos(om dt)) / (om dt)^2 */
+    if (x > 0 && x < SS_Q30_ONE / 2) {
+        cos_x = nested_q30(
+            x / 2, SS_Q30_ONE,
+            nested_q30(x, SS_ACT_Q_12TH_Q30, SS_Q30_ONE - ss_shr_round(x * SS_ACT_Q_30TH_Q30, 30)));
+        sin_over = nested_q30(
+            x, SS_ACT_Q_SIXTH_Q30,
+            nested_q30(x, SS_ACT_Q_20TH_Q30, SS_Q30_ONE - ss_shr_round(x * SS_ACT_Q_42ND_Q30, 30)));
+        one_less = nested_q30(
+            x, SS_ACT_Q_12TH_Q30,
+            nested_q30(x, SS_ACT_Q_30TH_Q30, SS_Q30_ONE - ss_shr_round(x * SS_ACT_Q_56TH_Q30, 30)));
+    }
+    const int64_t w = ss_velocity_q28(dx_rod, cfg->inv_dt_q47);
+    const int64_t dv = ss_clamp64(v_s0 - w, -INT32_MAX, INT32_MAX);
+    /* m/s at 2^-28 times s at 2^-40 is m at 2^-68 */
+    const int64_t dv_dt = ss_shr_round(ss_mul_i64_i32(dv, cfg->dt_q40), 28);
+    const int64_t h_dt =
+        ss_shr_round(ss_mul_i64_i32(ss_clamp64(dv_half, -INT32_MAX, INT32_MAX), cfg->dt_q40), 28);
+    *u_q40 = ss_sat32(ss_shr_round(ss_clamp64(h_dt, -INT32_MAX, INT32_MAX) * one_less, 30) + dx_rod +
+                      ss_shr_round(ss_clamp64(dv_dt, -INT32_MAX, INT32_MAX) * sin_over, 30));
+    *ud_q28 = ss_sat32(ss_shr_round(ss_clamp64(2 * dv_half, -INT32_MAX, INT32_MAX) * sin_over, 30) + w +
+                       ss_shr_round(dv * cos_x, 30));
+}
+
 /* A step (ss_actuator_step_q), with the drive bending at corner_frac_q30 of it to corner_q16 when
  * corner_frac_q30 > 0 (ss_actuator_step_corner_q). compliance_q56 0: the fine step, which kicks the
  * rod with the friction at both ends. Else a coarse step (no corner, no base) in the float family's
  * held form (ss_actuator_f32.c, coarse_step_over): the force it starts with held in the rod's flow,
  * its anchor shifted by the static deflection F0 / k (1 / k, the stack's compliance, m/N at 2^-56),
- * only the force's change kicked onto the rod at the end. */
+ * only the force's change kicked onto the rod at the end; with ls_model, LS's form of it (the
+ * anchor ramping to f_rod's deflection, the slider's flow on the contact, F1 about f_ref). */
 SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
                                       int32_t drive_q16, int32_t corner_frac_q30, int32_t corner_q16,
-                                      int32_t compliance_q56)
+                                      int32_t compliance_q56, int ls_model)
 {
     if (cfg == NULL || st == NULL) {
         return SS_ERR_NULL;
@@ -324,14 +388,24 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     }
     const int64_t v_rel_start = (int64_t)st->v_rod_q28 - st->v_slider_q28;
     const int32_t f0 = st->force_q24;
+    /* LS's coarse step (the float's coarse_step_over): the force ramps in the rod's flow to f_rod =
+     * F0 + kt v_rel dt, and the slider takes its exact flow on the contact (slider_flow_q) */
+    const int ls_flow = ls_model && compliance_q56 != 0;
+    int32_t f_rod = f0;
+    if (ls_flow) {
+        const int64_t v_dt = ss_shr_round(ss_mul_s32_s64(ss_sat32(v_rel_start), cfg->dt_q40), 28);
+        f_rod = ss_sat32(f0 + ls_contact_q24(cfg, st, ss_sat32(v_dt)));
+    }
     if (compliance_q56 == 0) {
         kick(cfg, st);
-    } else {
+    } else if (!ls_flow) {
         st->v_slider_q28 = slider_kicked_q28(cfg, st, f0);
     }
     const int64_t kick_dv = v_rel_start - ((int64_t)st->v_rod_q28 - st->v_slider_q28);
-    /* the held force's static deflection of the rod, m at 2^-40: N at 2^-24 times m/N at 2^-56 */
+    /* the held force's static deflection of the rod, m at 2^-40: N at 2^-24 times m/N at 2^-56; at
+     * the step's end, f_rod's */
     const int64_t held = (compliance_q56 == 0) ? 0 : ss_shr_round(ss_mul_s32_s64(f0, compliance_q56), 40);
+    const int64_t held1 = ls_flow ? ss_shr_round(ss_mul_s32_s64(f_rod, compliance_q56), 40) : held;
 
     /* drift: exact flow of the rod under an anchor (strain plus base) ramping linearly over the step
      * (rate b); the stack's damper acts on the rod's velocity relative to the base, so its forced
@@ -346,12 +420,12 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
             : ss_sat32((int64_t)st->x_base_q40 + ss_shr_round((int64_t)st->v_base_q28 * dt, 28));
     const int64_t a0 = (int64_t)st->x_p_q40 + st->x_base_q40;
     const int64_t a1 = (int64_t)x_p1 + x_b1;
-    const int64_t dxp = ss_sat32(a1 - a0);
+    const int64_t dxp = ss_sat32((a1 - held1) - (a0 - held));
     /* b = dxp / dt, m/s at 2^-28: m at 2^-40 times 1/s at 2^-7 is m/s at 2^-47 */
     const int64_t b = ss_sat32(ss_shr_round(ss_mul_i64_i32(dxp, cfg->inv_dt_q47), 47 - SS_QF_DXDT));
     /* c (b - v_b) / k, m at 2^-40: from the strain's change (the anchor's, without a base) */
-    const int64_t lag =
-        ss_shr_round(ss_mul_s32_s64(cfg->lag_q24, ss_sat32((int64_t)x_p1 - st->x_p_q40)), SS_QF_LAG);
+    const int64_t lag = ss_shr_round(
+        ss_mul_s32_s64(cfg->lag_q24, ss_sat32((int64_t)x_p1 - st->x_p_q40 - (held1 - held))), SS_QF_LAG);
     const int64_t e0 = ss_sat32((int64_t)st->x_rod_q40 - (a0 - held - lag));
     const int64_t ed0 = ss_sat32((int64_t)st->v_rod_q28 - b);
     const int32_t *phi = cfg->phi_q28;
@@ -369,12 +443,22 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
         const int64_t chord = x_p0 + ss_shr_round(((int64_t)x_p1 - x_p0) * corner_frac_q30, 30);
         corner_response(cfg, ss_sat32(x_pc - chord), corner_frac_q30, &dx_corner, &dv_corner);
     }
-    const int32_t x_rod1 = ss_sat32(a1 - held - lag + e1 + dx_corner);
-    const int32_t dx_slider = ss_sat32(ss_shr_round(ss_mul_s32_s64(st->v_slider_q28, cfg->dt_q40), 28));
+    const int32_t x_rod1 = ss_sat32(a1 - held1 - lag + e1 + dx_corner);
+    int32_t dx_slider;
+    int32_t v_slider_end = st->v_slider_q28; /* after the drift, before the closing kick */
+    if (ls_flow) {
+        slider_flow_q(
+            cfg, st, ss_sat32((int64_t)x_rod1 - st->x_rod_q40),
+            ss_shr_round(ss_mul_i64_i32((int64_t)cfg->effects.load_q24 + f0, cfg->kick_slider_q40), 36),
+            st->v_slider_q28, &dx_slider, &v_slider_end);
+    } else {
+        dx_slider = ss_sat32(ss_shr_round(ss_mul_s32_s64(st->v_slider_q28, cfg->dt_q40), 28));
+    }
     const int32_t dx_rel = ss_sat32((int64_t)x_rod1 - st->x_rod_q40 - dx_slider);
     st->x_rod_q40 = x_rod1;
     st->v_rod_q28 = ss_sat32(b + ed1 + dv_corner);
     st->x_slider_q40 += dx_slider; /* the same increment the friction sees: no drift between them */
+    st->v_slider_q28 = v_slider_end;
     st->x_base_q40 = x_b1;
     st->x_p_q40 = x_p1;
     st->drive_q16 = drive_q16;
@@ -382,14 +466,19 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     /* friction at the new state and the velocity the step ends with, solved for the closing kick
      * (implicit in the damping terms): F = F_free / (1 + dF/dv dt/2 (1/M_R + 1/M_c)); the load's
      * half kick is known and taken out of the relative velocity */
-    int64_t load_kick = 0;
-    if (compliance_q56 != 0) { /* held: and the slider's closing kick were the force to stay F0 */
-        load_kick =
+    int64_t known_kick = 0;
+    /* LS's coarse step: the force its linearised contact ends with, about which F1 is linearised */
+    const int32_t f_ref = ls_flow ? ss_sat32(f0 + ls_contact_q24(cfg, st, dx_rel)) : f0;
+    if (ls_flow) { /* and the rod's closing kick were the force to end at f_ref */
+        known_kick =
+            ss_shr_round(ss_mul_s32_u32_s64(ss_sat32((int64_t)f_ref - f_rod), cfg->kick_rod_q40), 36);
+    } else if (compliance_q56 != 0) { /* held: and the slider's closing kick were the force to stay F0 */
+        known_kick =
             ss_shr_round(ss_mul_i64_i32((int64_t)cfg->effects.load_q24 + f0, cfg->kick_slider_q40), 36);
     } else if (cfg->effects.load_q24 != 0) {
-        load_kick = ss_shr_round((int64_t)cfg->effects.load_q24 * cfg->kick_slider_q40, 36);
+        known_kick = ss_shr_round((int64_t)cfg->effects.load_q24 * cfg->kick_slider_q40, 36);
     }
-    const int32_t v_free = ss_sat32((int64_t)st->v_rod_q28 - st->v_slider_q28 - load_kick);
+    const int32_t v_free = ss_sat32((int64_t)st->v_rod_q28 - st->v_slider_q28 - known_kick);
     ss_friction_slopes_q_t slopes;
     int32_t f_free;
     if (cfg->friction_model == SS_FRICTION_Q_LUGRE) {
@@ -398,7 +487,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     } else {
         /* where the relative motion turned inside the drift: LS's Masing memory keeps that point
          * (the float step, ss_actuator_f32.c, says why) */
-        const int64_t p1 = (int64_t)st->v_rod_q28 - st->v_slider_q28 - kick_dv;
+        const int64_t p1 = (int64_t)st->v_rod_q28 - st->v_slider_q28 - (ls_flow ? 0 : kick_dv);
         if ((v_rel_start > 0 && p1 < 0) || (v_rel_start < 0 && p1 > 0)) {
             ls_advance_turning(cfg, st, dx_rel, v_rel_start, p1);
         } else {
@@ -415,7 +504,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
         ((compliance_q56 == 0) ? ss_shr_round(ss_mul_s32_s64(slopes.dfdx_q30, cfg->contact_lag_q30), 30) : 0);
     if (compliance_q56 != 0) {
         /* held: F1 = (F_free + g F0) / (1 + g), the change linearised about F0 (as the float) */
-        f_free = ss_sat32((int64_t)f_free + ss_shr_round(ss_mul_i64_i32(g, f0), 30));
+        f_free = ss_sat32((int64_t)f_free + ss_shr_round(ss_mul_i64_i32(g, f_ref), 30));
     }
     if (denom > SS_ACT_Q_DENOM_MIN_Q30 && denom <= INT32_MAX) {
         /* F_free / denom by denom's reciprocal m 2^-sh: denom in (0.1 x 2^30, 2^31), sh in
@@ -433,18 +522,31 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     if (compliance_q56 == 0) {
         kick(cfg, st);
     } else {
-        st->v_rod_q28 = rod_kicked_q28(cfg, st, ss_sat32((int64_t)st->force_q24 - f0));
-        st->v_slider_q28 = slider_kicked_q28(cfg, st, st->force_q24);
+        st->v_rod_q28 = rod_kicked_q28(cfg, st, ss_sat32((int64_t)st->force_q24 - f_rod));
+        st->v_slider_q28 =
+            ls_flow ? ss_sat32(st->v_slider_q28 +
+                               ss_shr_round(
+                                   ss_mul_i64_i32((int64_t)st->force_q24 - f_ref, cfg->kick_slider_q40), 36))
+                    : slider_kicked_q28(cfg, st, st->force_q24);
     }
     st->steps++;
     return SS_OK;
+}
+
+/* LS's coarse step, out of line: the run's loop inlines LuGre's, which then carries none of LS's
+ * slider flow (inlined both, the M0+'s loop spilled more: q LuGre 1 541 -> 1 593 instructions a
+ * microsecond) */
+SS_NOINLINE ss_status_t step_held_ls(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                                     int32_t drive_q16, int32_t compliance_q56)
+{
+    return step_held(cfg, st, drive_q16, 0, 0, compliance_q56, 1);
 }
 
 /* The fine step */
 SS_FORCE_INLINE ss_status_t step(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
                                  int32_t drive_q16, int32_t corner_frac_q30, int32_t corner_q16)
 {
-    return step_held(cfg, st, drive_q16, corner_frac_q30, corner_q16, 0);
+    return step_held(cfg, st, drive_q16, corner_frac_q30, corner_q16, 0, 0);
 }
 
 ss_status_t ss_actuator_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
@@ -603,8 +705,11 @@ ss_status_t ss_actuator_run_coarse_q(const ss_actuator_config_q_t *cfg, const ss
         const uint32_t m =
             coarse_allowed(cfg, co, st, wave, wst, (to_row < left) ? to_row : left, &w_end, &drive_end);
         if (m != 0u) {
-            status = step_held((m == co->n) ? &co->cfg : &co->cfg_mid, st, drive_end, 0, 0,
-                               (cfg->effects.base_kick_q40 == 0) ? co->compliance_q56 : 0);
+            const ss_actuator_config_q_t *c = (m == co->n) ? &co->cfg : &co->cfg_mid;
+            const int32_t compliance = (cfg->effects.base_kick_q40 == 0) ? co->compliance_q56 : 0;
+            status = (cfg->friction_model == SS_FRICTION_Q_LUGRE)
+                         ? step_held(c, st, drive_end, 0, 0, compliance, 0)
+                         : step_held_ls(c, st, drive_end, compliance);
             if (status == SS_OK) {
                 *wst = w_end;
                 st->steps += m - 1u; /* step counted one */

@@ -43,6 +43,7 @@ static void test_init_refuses(void **unused)
     assert_int_equal(ss_actuator_coarse_init_f32(&c, 4u, &co, &bad), SS_OK);
     assert_true(co.v_rel_mid_max_m_per_s == SS_COARSE_LS_V_REL_MID_MAX_M_PER_S);
     assert_true(co.v_ring_max_m_per_s == SS_COARSE_LS_V_RING_MAX_M_PER_S);
+    assert_true(co.v_rel_max_m_per_s == SS_COARSE_LS_V_REL_MAX_M_PER_S);
     c = lugre_config();
     c.rod_mass_kg = -1.0f;
     assert_int_equal(ss_actuator_coarse_init_f32(&c, 4u, &co, &bad), SS_ERR_RANGE);
@@ -175,9 +176,10 @@ static void paper_drive_holds(ss_actuator_config_f32_t c, uint32_t n, double ste
 /* Issue 17's accuracy: each cycle's step (after the first, from rest) within 0.1 % of the same
  * model's converged run at 0.125 us, read half-way through each period. LuGre at 1 us with coarse
  * steps of up to 8: 0.039 % (0.065 % on the worst drive of the matrix, bench/step_study.py
- * --coarse 8), 0.30 model steps a microsecond; LS at 1.5 us with coarse steps of up to 4: 0.082 %
- * (the fine 1.5 us step's own: 0.065 %), 0.357 a microsecond (the fine step's 0.667; 0.400 with
- * LuGre's bounds for the rod's ring, 0.088 %). */
+ * --coarse 8), 0.30 model steps a microsecond; LS at 1.5 us with coarse steps of up to 4: 0.027 %
+ * (the fine 1.5 us step's own: 0.065 %), 0.286 a microsecond (the fine step's 0.667). Before its
+ * slider's exact flow on the contact, LS's coarse steps held 0.088 % at 0.400 a microsecond, and
+ * at today's bounds they would not hold (0.18 % over the drive matrix: docs/model.md). */
 static void test_paper_drive_holds_a_tenth_of_a_percent(void **unused)
 {
     (void)unused;
@@ -185,7 +187,7 @@ static void test_paper_drive_holds_a_tenth_of_a_percent(void **unused)
     ss_actuator_config_f32_t ls = ss_actuator_config_table1_f32();
     ls.friction_model = SS_FRICTION_LS;
     ls.dt_s = 1.5e-6f;
-    paper_drive_holds(ls, 4u, 0.37, 1.8e-6);
+    paper_drive_holds(ls, 4u, 0.31, 1.8e-6);
 }
 
 static void test_waveform_straight_and_slope(void **unused)
@@ -320,7 +322,7 @@ static void coarse_q_against_float(const ss_actuator_config_f32_t *c, const ss_a
     for (int k = 1; k + 1 <= QC - 1; ++k) { /* rows at each period's end: row (k + 1) per_cycle - 1 */
         const double sq = (double)(xa[(k + 1) * per_cycle - 1] - xa[k * per_cycle - 1]) * 0x1p-40;
         const double sf = (double)col_a[3][(k + 1) * per_cycle - 1] - (double)col_a[3][k * per_cycle - 1];
-        assert_true(sf > 2e-6);
+        assert_true(sf > 1.5e-6); /* a paper cycle: LuGre 2.2 um, LS 1.9-2.1 um */
         assert_close(sq, sf, 1e-2 * sf);
     }
 }
@@ -364,6 +366,12 @@ static void test_coarse_q(void **unused)
     assert_int_equal(ss_actuator_coarse_to_q(&c, 8u, &co, &bad), SS_OK);
     assert_true(co.cfg.kick_rod_q40 > (uint32_t)INT32_MAX);
     coarse_q_against_float(&c, &cq, &co, 8u);
+    /* LS: its slider's flow on the contact in q against the float's (at 1 us, so that the periods
+     * are whole steps) */
+    other.dt_s = 1e-6f;
+    assert_int_equal(ss_actuator_config_to_q(&other, &cq, &bad), SS_OK);
+    assert_int_equal(ss_actuator_coarse_to_q(&other, 4u, &co, &bad), SS_OK);
+    coarse_q_against_float(&other, &cq, &co, 4u);
 }
 
 int main(void)
