@@ -293,67 +293,62 @@ SS_NOINLINE void corner_response(const ss_actuator_config_q_t *cfg, int32_t h_q4
         ss_shr_round(ss_mul_s32_s64((int32_t)ss_shr_round(hw * p0, 30), cfg->inv_dt_q47), 47 - SS_QF_DXDT);
 }
 
-/* 1/12, 1/20, 1/30, 1/42 and 1/56 in Q30, rounded: the slider flow's series */
+/* 1/12, 1/20 and 1/30 in Q30, rounded: the slider flow's series (with SS_ACT_Q_SIXTH_Q30) */
 #define SS_ACT_Q_12TH_Q30 89478485
 #define SS_ACT_Q_20TH_Q30 53687091
 #define SS_ACT_Q_30TH_Q30 35791394
-#define SS_ACT_Q_42ND_Q30 25565282
-#define SS_ACT_Q_56TH_Q30 19173961
 
-/* 1 - a b (1 - c d) in Q30: the series' nested terms (a, b, c, d in Q30, each below 2^31) */
-SS_FORCE_INLINE int64_t nested_q30(int64_t a, int64_t b, int64_t inner)
+/* LS's contact stiffness for a coarse step: sigma0 times the element's tangent kt_q30 (at most 1),
+ * N/m */
+SS_FORCE_INLINE int32_t ls_stiffness(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st)
 {
-    return SS_Q30_ONE - ss_shr_round(ss_shr_round(a * b, 30) * inner, 30);
+    return (int32_t)ss_shr_round(ss_mul_s32_s64(cfg->friction.sigma0_n_per_m, st->fr.ls.kt_q30), 30);
 }
 
-/* LS's contact force for a relative displacement dx (m at 2^-40) on its tangent stiffness
- * kt = sigma0 kt_q30: N at 2^-24 (N/m times m at 2^-40 is N at 2^-40; saturated at 128 N before
- * the product with kt, so that it stays within 64 bits) */
-SS_FORCE_INLINE int64_t ls_contact_q24(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
-                                       int32_t dx_q40)
+/* The force of stiffness kt (N/m) over dx (m at 2^-40): N at 2^-24 */
+SS_FORCE_INLINE int64_t contact_q24(int32_t kt, int32_t dx_q40)
 {
-    const int32_t f = ss_sat32(ss_shr_round(ss_mul_s32_s64(dx_q40, cfg->friction.sigma0_n_per_m), 16));
-    return ss_shr_round(ss_mul_s32_s64(f, st->fr.ls.kt_q30), 30);
+    return ss_shr_round(ss_mul_s32_s64(dx_q40, kt), 16);
+}
+
+/* 1 - a (1 - b) in Q30 for a, b in [0, 2^30]: the series' nested form */
+SS_FORCE_INLINE int64_t one_less_q30(int64_t a, int64_t b)
+{
+    return SS_Q30_ONE - ss_shr_round(ss_mul_s32_s64((int32_t)a, (int32_t)(SS_Q30_ONE - b)), 30);
 }
 
 /* LS's slider in a coarse step, as the float family's slider_flow (ss_actuator_f32.c): its exact
- * flow on the contact's tangent stiffness kt, whose other end rides on the rod (dx_rod over dt),
+ * flow on the contact's stiffness kt (N/m), whose other end rides on the rod (dx_rod over dt),
  * under the force F0 + load (dv_half: its half kick, m/s at 2^-28), from v_s0 (m/s at 2^-28): the
- * slider's travel u (m at 2^-40) and end velocity ud (m/s at 2^-28). x = kt dt^2 / M_C in Q30 from
- * sigma0 dt (N s/m at 2^-16, saturated: past 32 768 N s/m x is far beyond 0.5) times 2 dt / (2 M_C)
- * (kick_slider_q40), times kt / sigma0; past x = 0.5 (and for x <= 0) the kick-drift-kick's flow. */
-SS_FORCE_INLINE void slider_flow_q(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
-                                   int32_t dx_rod, int64_t dv_half, int64_t v_s0, int32_t *u_q40,
-                                   int32_t *ud_q28)
+ * slider's travel u (m at 2^-40) and end velocity ud (m/s at 2^-28). x = kt dt^2 / M_C in Q30: kt
+ * dt rounded to N s/m at 2^-16 (saturated: past 32 768 N s/m x is far beyond the series' 0.1), times
+ * 2 dt / (2 M_C) (kick_slider_q40); past x = 0.1 (and at 0) the kick-drift-kick's flow. */
+SS_FORCE_INLINE void slider_flow_q(const ss_actuator_config_q_t *cfg, int32_t kt, int32_t dx_rod,
+                                   int64_t dv_half, int64_t v_s0, int32_t *u_q40, int32_t *ud_q28)
 {
-    const int32_t sigma0_dt =
-        ss_sat32(ss_shr_round(ss_mul_s32_s64(cfg->friction.sigma0_n_per_m, cfg->dt_q40), 24));
-    const int64_t x_full = ss_shr_round(ss_mul_s32_s64(sigma0_dt, cfg->kick_slider_q40), 25);
-    const int64_t x = (x_full > INT32_MAX) ? SS_Q30_ONE : ss_shr_round(x_full * st->fr.ls.kt_q30, 30);
-    int64_t cos_x = SS_Q30_ONE;    /* cos(om dt), om^2 = kt / M_C */
-    int64_t sin_over = SS_Q30_ONE; /* sin(om dt) / (om dt) */
-    int64_t one_less = SS_Q30_ONE; /* 2 (1 - cos(om dt)) / (om dt)^2 */
-    if (x > 0 && x < SS_Q30_ONE / 2) {
-        cos_x = nested_q30(
-            x / 2, SS_Q30_ONE,
-            nested_q30(x, SS_ACT_Q_12TH_Q30, SS_Q30_ONE - ss_shr_round(x * SS_ACT_Q_30TH_Q30, 30)));
-        sin_over = nested_q30(
-            x, SS_ACT_Q_SIXTH_Q30,
-            nested_q30(x, SS_ACT_Q_20TH_Q30, SS_Q30_ONE - ss_shr_round(x * SS_ACT_Q_42ND_Q30, 30)));
-        one_less = nested_q30(
-            x, SS_ACT_Q_12TH_Q30,
-            nested_q30(x, SS_ACT_Q_30TH_Q30, SS_Q30_ONE - ss_shr_round(x * SS_ACT_Q_56TH_Q30, 30)));
+    const int32_t kt_dt = ss_sat32(ss_shr_round(ss_mul_s32_s64(kt, cfg->dt_q40), 24));
+    const int64_t x = ss_shr_round(ss_mul_s32_s64(kt_dt, cfg->kick_slider_q40), 25);
+    int64_t cos_x = SS_Q30_ONE;         /* cos(om dt), om^2 = kt / M_C */
+    int64_t sin_over = SS_Q30_ONE;      /* sin(om dt) / (om dt) */
+    int64_t one_less = SS_Q30_ONE;      /* 2 (1 - cos(om dt)) / (om dt)^2 */
+    if (x > 0 && x < SS_Q30_ONE / 10) { /* x and every factor below 2^31: 32 x 32 -> 64 products */
+        const int32_t x32 = (int32_t)x;
+        const int64_t x12 = ss_shr_round(ss_mul_s32_s64(x32, SS_ACT_Q_12TH_Q30), 30);
+        cos_x = one_less_q30(x / 2, x12);
+        sin_over = one_less_q30(ss_shr_round(ss_mul_s32_s64(x32, SS_ACT_Q_SIXTH_Q30), 30),
+                                ss_shr_round(ss_mul_s32_s64(x32, SS_ACT_Q_20TH_Q30), 30));
+        one_less = one_less_q30(x12, ss_shr_round(ss_mul_s32_s64(x32, SS_ACT_Q_30TH_Q30), 30));
     }
     const int64_t w = ss_velocity_q28(dx_rod, cfg->inv_dt_q47);
-    const int64_t dv = ss_clamp64(v_s0 - w, -INT32_MAX, INT32_MAX);
+    const int32_t dv = (int32_t)ss_clamp64(v_s0 - w, -INT32_MAX, INT32_MAX);
+    const int32_t h = (int32_t)ss_clamp64(dv_half, -INT32_MAX / 2, INT32_MAX / 2);
     /* m/s at 2^-28 times s at 2^-40 is m at 2^-68 */
-    const int64_t dv_dt = ss_shr_round(ss_mul_i64_i32(dv, cfg->dt_q40), 28);
-    const int64_t h_dt =
-        ss_shr_round(ss_mul_i64_i32(ss_clamp64(dv_half, -INT32_MAX, INT32_MAX), cfg->dt_q40), 28);
-    *u_q40 = ss_sat32(ss_shr_round(ss_clamp64(h_dt, -INT32_MAX, INT32_MAX) * one_less, 30) + dx_rod +
-                      ss_shr_round(ss_clamp64(dv_dt, -INT32_MAX, INT32_MAX) * sin_over, 30));
-    *ud_q28 = ss_sat32(ss_shr_round(ss_clamp64(2 * dv_half, -INT32_MAX, INT32_MAX) * sin_over, 30) + w +
-                       ss_shr_round(dv * cos_x, 30));
+    const int32_t dv_dt = ss_sat32(ss_shr_round(ss_mul_s32_s64(dv, cfg->dt_q40), 28));
+    const int32_t h_dt = ss_sat32(ss_shr_round(ss_mul_s32_s64(h, cfg->dt_q40), 28));
+    *u_q40 = ss_sat32(ss_shr_round(ss_mul_s32_s64(h_dt, (int32_t)one_less), 30) + dx_rod +
+                      ss_shr_round(ss_mul_s32_s64(dv_dt, (int32_t)sin_over), 30));
+    *ud_q28 = ss_sat32(ss_shr_round(ss_mul_s32_s64(2 * h, (int32_t)sin_over), 30) + w +
+                       ss_shr_round(ss_mul_s32_s64(dv, (int32_t)cos_x), 30));
 }
 
 /* A step (ss_actuator_step_q), with the drive bending at corner_frac_q30 of it to corner_q16 when
@@ -392,9 +387,10 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
      * F0 + kt v_rel dt, and the slider takes its exact flow on the contact (slider_flow_q) */
     const int ls_flow = ls_model && compliance_q56 != 0;
     int32_t f_rod = f0;
+    const int32_t kt = ls_flow ? ls_stiffness(cfg, st) : 0;
     if (ls_flow) {
         const int64_t v_dt = ss_shr_round(ss_mul_s32_s64(ss_sat32(v_rel_start), cfg->dt_q40), 28);
-        f_rod = ss_sat32(f0 + ls_contact_q24(cfg, st, ss_sat32(v_dt)));
+        f_rod = ss_sat32(f0 + contact_q24(kt, ss_sat32(v_dt)));
     }
     if (compliance_q56 == 0) {
         kick(cfg, st);
@@ -448,7 +444,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     int32_t v_slider_end = st->v_slider_q28; /* after the drift, before the closing kick */
     if (ls_flow) {
         slider_flow_q(
-            cfg, st, ss_sat32((int64_t)x_rod1 - st->x_rod_q40),
+            cfg, kt, ss_sat32((int64_t)x_rod1 - st->x_rod_q40),
             ss_shr_round(ss_mul_i64_i32((int64_t)cfg->effects.load_q24 + f0, cfg->kick_slider_q40), 36),
             st->v_slider_q28, &dx_slider, &v_slider_end);
     } else {
@@ -468,7 +464,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
      * half kick is known and taken out of the relative velocity */
     int64_t known_kick = 0;
     /* LS's coarse step: the force its linearised contact ends with, about which F1 is linearised */
-    const int32_t f_ref = ls_flow ? ss_sat32(f0 + ls_contact_q24(cfg, st, dx_rel)) : f0;
+    const int32_t f_ref = ls_flow ? ss_sat32(f0 + contact_q24(kt, dx_rel)) : f0;
     if (ls_flow) { /* and the rod's closing kick were the force to end at f_ref */
         known_kick =
             ss_shr_round(ss_mul_s32_u32_s64(ss_sat32((int64_t)f_ref - f_rod), cfg->kick_rod_q40), 36);
