@@ -226,7 +226,7 @@
         .rod_w2dt2_q28 = 203034772, \
     }, \
     .n = 8, \
-    .v_rel_max_q28 = 268435, \
+    .v_rel_max_q28 = 402653, \
     .ring_max_q40 = 440, \
     .ring_max_2_q40 = 110, \
     .v_rel_mid_max_q28 = 1342177, \

@@ -83,13 +83,13 @@ ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_ac
 
 /* Coarse steps (issue 17, docs/model.md "Coarse steps while the contact sticks"): up to n steps of
  * dt taken as one step where that step is as accurate as the fine ones. That is where the contact
- * sticks and the rod's 69 kHz ring has died down and the drive is straight. A coarse step holds
- * the friction it starts with in the rod's exact flow and kicks only its change, so that it does
- * not ring the rod (the fine step's kicks, taken at 8 us, put 0.2-0.7 % into a cycle's step; held,
- * 0.07 %). LuGre and LS (with its turning point inside the step); not GMS. The bounds: the
- * relative velocity (2.5 x Table I's Stribeck velocity), and the rod's velocity off the piezo's
- * ideal rate (0.11 nm of 69 kHz ring). */
-#define SS_COARSE_V_REL_MAX_M_PER_S 1e-3f
+ * sticks and the rod's 69 kHz ring has died down and the drive is straight. A coarse step takes
+ * the friction into the rod's exact flow, ramping from the force it starts with to the one the
+ * contact's stiffness predicts, and kicks only the rest, so that it does not ring the rod (the fine
+ * step's kicks, taken at 8 us, put 0.2-0.7 % into a cycle's step; held, 0.07 %). LuGre and LS (with
+ * its turning point inside the step); not GMS. The bounds: the relative velocity (3.75 x Table I's
+ * Stribeck velocity), and the rod's velocity off the piezo's ideal rate (0.11 nm of 69 kHz ring). */
+#define SS_COARSE_V_REL_MAX_M_PER_S 1.5e-3f
 #define SS_COARSE_V_RING_MAX_M_PER_S 5e-5f
 /* Between a stick and a slip the contact rings at its 4 kHz mode (LuGre: on its bristles; LS: on
  * its presliding stiffness, through the whole slow edge): there a step of 2 dt, in the coarse

@@ -731,17 +731,16 @@ SS_FORCE_INLINE void slider_flow(float kt, float inv_mc, float dt, float a_s, fl
 /* A coarse step over dt (the rod's flow phi over it): the friction reaches the rod through its
  * flow, not as kicks. The rod's 69 kHz mode turns 1.7 rad in 4 us and 3.5 rad in 8 us, where
  * kicks F dt / 2 at the ends ring it (the fine step's kicks, taken coarse, held 0.1 % at 4 us
- * but 0.2-0.7 % at 8 us: docs/model.md). Here the force the step starts with, F0, is held over
- * the flow (the rod's anchor shifted by -F0 / k, the static deflection it makes), and only its
- * change over the step comes as a kick, -(F1 - F0) dt / 2 on the rod at the end; in a stick the
- * change is small. The slider is kicked as in a fine step (F0 dt / 2, drift, F1 dt / 2). F1 is
- * linearised in dF/dv about the velocity the step ends with if the force stays F0. LS's contact
- * rings through a stick, and its force changes over the step: its rod's anchor ramps to the
- * deflection of f_rod = F0 + kt v_rel dt instead (held, the change as a jump at the end rang the
- * rod at 0.1-0.19 mm/s through the slow edge, the fine steps' own ring 0.05-0.1), its slider takes
- * its exact flow on the contact (slider_flow), and F1 is linearised about f_ref, the force that
- * flow ends with; each body is kicked by F1's departure from its own reference. A base (whose
- * kicks this step does not make) takes the fine step's form over dt. */
+ * but 0.2-0.7 % at 8 us: docs/model.md). Here the rod's anchor carries the static deflection the
+ * force makes, -F / k, ramping over the step from F0's to that of f_rod = F0 + kt v_rel dt, the
+ * force the contact's stiffness kt predicts for the step's end (held at F0, the change came as a
+ * jump at the end and rang the rod: LS's at 0.1-0.19 mm/s through the slow edge, the fine steps'
+ * 0.05-0.1), and only F1's departure from f_rod is kicked onto the rod at the end. LuGre's slider
+ * is kicked as in a fine step (F0 dt / 2, drift, F1 dt / 2), F1 linearised in dF/dv about the
+ * velocity the step ends with if the force stays F0. LS's contact rings through a stick: its
+ * slider takes its exact flow on the contact (slider_flow), F1 is linearised about f_ref, the
+ * force that flow ends with, and the slider is kicked by F1 - f_ref. A base (whose kicks this
+ * step does not make) takes the fine step's form over dt. */
 SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
                                              const float phi[4], float dt, float drive_v)
 {
@@ -766,14 +765,15 @@ SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg
     const float x_rod0 = st->x_rod_m;
     const float x_p1 =
         ss_effects_drive_inline_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, dt);
-    float f_rod = f0;       /* the rod's closing kick is F1 - f_rod, */
-    float f_ref = f0;       /* F1 is linearised about f_ref, */
-    float f_slider = -load; /* the slider's closing kick F1 - f_slider (held: F1 + load) */
-    if (cfg->friction_model == SS_FRICTION_LS) {
-        const float kt = st->fr.ls.kt_n_per_m;
-        f_rod = f0 + kt * c.v_start * dt;
-        rod_drift(cfg, phi, dt, a0, x_p1 - f_rod / cfg->piezo_stiffness_n_per_m, 0.0f, &st->x_rod_m,
-                  &st->v_rod_m_per_s);
+    /* the contact's stiffness: LS's tangent, LuGre's bristles (at rest in a stick) */
+    const int ls = cfg->friction_model == SS_FRICTION_LS;
+    const float kt = ls ? st->fr.ls.kt_n_per_m : cfg->friction.sigma0_n_per_m;
+    const float f_rod = f0 + kt * c.v_start * dt; /* the rod's closing kick is F1 - f_rod, */
+    float f_ref = f0;                             /* F1 is linearised about f_ref, */
+    float f_slider = -load; /* the slider's closing kick F1 - f_slider (kicked: F1 + load) */
+    rod_drift(cfg, phi, dt, a0, x_p1 - f_rod / cfg->piezo_stiffness_n_per_m, 0.0f, &st->x_rod_m,
+              &st->v_rod_m_per_s);
+    if (ls) {
         const float dx_rod = st->x_rod_m - x_rod0;
         float u;
         float ud;
@@ -788,13 +788,12 @@ SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg
     } else {
         const float kick_dv = (f0 + load) * c.inv_mc * half; /* the opening kick's relative dv */
         st->v_slider_m_per_s += kick_dv;
-        rod_drift(cfg, phi, dt, a0, x_p1 - f0 / cfg->piezo_stiffness_n_per_m, 0.0f, &st->x_rod_m,
-                  &st->v_rod_m_per_s);
         const float dx_slider = st->v_slider_m_per_s * dt;
         c.dx_rel = (st->x_rod_m - x_rod0) - dx_slider;
         turn_inside(cfg, st, kick_dv, &c);
         position_add(&st->x_slider, dx_slider);
-        c.v_free = st->v_rod_m_per_s - st->v_slider_m_per_s - (f0 + load) * c.inv_mc * half;
+        c.v_free = st->v_rod_m_per_s - st->v_slider_m_per_s - (f0 + load) * c.inv_mc * half -
+                   (f0 - f_rod) * c.inv_mr * half;
     }
     st->x_p_m = x_p1;
     st->drive_v = drive_v;

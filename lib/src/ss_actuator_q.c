@@ -383,12 +383,14 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     }
     const int64_t v_rel_start = (int64_t)st->v_rod_q28 - st->v_slider_q28;
     const int32_t f0 = st->force_q24;
-    /* LS's coarse step (the float's coarse_step_over): the force ramps in the rod's flow to f_rod =
-     * F0 + kt v_rel dt, and the slider takes its exact flow on the contact (slider_flow_q) */
+    /* a coarse step (the float's coarse_step_over): the force ramps in the rod's flow to f_rod =
+     * F0 + kt v_rel dt (kt: LS's tangent stiffness, LuGre's bristles); LS's slider takes its exact
+     * flow on the contact (slider_flow_q) */
     const int ls_flow = ls_model && compliance_q56 != 0;
     int32_t f_rod = f0;
-    const int32_t kt = ls_flow ? ls_stiffness(cfg, st) : 0;
-    if (ls_flow) {
+    int32_t kt = 0;
+    if (compliance_q56 != 0) {
+        kt = ls_model ? ls_stiffness(cfg, st) : cfg->friction.sigma0_n_per_m;
         const int64_t v_dt = ss_shr_round(ss_mul_s32_s64(ss_sat32(v_rel_start), cfg->dt_q40), 28);
         f_rod = ss_sat32(f0 + contact_q24(kt, ss_sat32(v_dt)));
     }
@@ -401,7 +403,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     /* the held force's static deflection of the rod, m at 2^-40: N at 2^-24 times m/N at 2^-56; at
      * the step's end, f_rod's */
     const int64_t held = (compliance_q56 == 0) ? 0 : ss_shr_round(ss_mul_s32_s64(f0, compliance_q56), 40);
-    const int64_t held1 = ls_flow ? ss_shr_round(ss_mul_s32_s64(f_rod, compliance_q56), 40) : held;
+    const int64_t held1 = (compliance_q56 == 0) ? 0 : ss_shr_round(ss_mul_s32_s64(f_rod, compliance_q56), 40);
 
     /* drift: exact flow of the rod under an anchor (strain plus base) ramping linearly over the step
      * (rate b); the stack's damper acts on the rod's velocity relative to the base, so its forced
@@ -465,12 +467,13 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     int64_t known_kick = 0;
     /* LS's coarse step: the force its linearised contact ends with, about which F1 is linearised */
     const int32_t f_ref = ls_flow ? ss_sat32(f0 + contact_q24(kt, dx_rel)) : f0;
-    if (ls_flow) { /* and the rod's closing kick were the force to end at f_ref */
+    if (compliance_q56 != 0) { /* the rod's closing kick were the force to end at f_ref */
         known_kick =
             ss_shr_round(ss_mul_s32_u32_s64(ss_sat32((int64_t)f_ref - f_rod), cfg->kick_rod_q40), 36);
-    } else if (compliance_q56 != 0) { /* held: and the slider's closing kick were the force to stay F0 */
-        known_kick =
-            ss_shr_round(ss_mul_i64_i32((int64_t)cfg->effects.load_q24 + f0, cfg->kick_slider_q40), 36);
+        if (!ls_flow) { /* and the slider's, F0 + load's */
+            known_kick +=
+                ss_shr_round(ss_mul_i64_i32((int64_t)cfg->effects.load_q24 + f0, cfg->kick_slider_q40), 36);
+        }
     } else if (cfg->effects.load_q24 != 0) {
         known_kick = ss_shr_round((int64_t)cfg->effects.load_q24 * cfg->kick_slider_q40, 36);
     }
