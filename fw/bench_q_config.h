@@ -134,8 +134,8 @@
     }, \
     .n = 4, \
     .v_rel_max_q28 = 805306, \
-    .ring_max_q40 = 1319, \
-    .ring_max_2_q40 = 660, \
+    .ring_max_q40 = 1979, \
+    .ring_max_2_q40 = 990, \
     .v_rel_mid_max_q28 = 2684355, \
     .ring_mid_max_q40 = 3299, \
     .compliance_q56 = 346430741, \

@@ -99,13 +99,22 @@ ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_ac
  * inside the region that holds 0.1 % over issue 17's drive matrix (docs/model.md). LS's own
  * coarse bounds: its slider rings on the contact through the slow edge (|v_rel| 1-4 mm/s), which
  * its coarse step takes in an exact flow (ss_actuator_f32.c, slider_flow), so that it needs no
- * stick, only a contact that rings within 3 mm/s, and a rod ring of 0.46 nm (0.2 mm/s). */
+ * stick, only a contact that rings within 3 mm/s, and a rod ring of 0.69 nm (0.3 mm/s). */
 #define SS_COARSE_V_REL_MID_MAX_M_PER_S 5e-3f
 #define SS_COARSE_V_RING_MID_MAX_M_PER_S 2e-4f
 #define SS_COARSE_LS_V_REL_MID_MAX_M_PER_S 1e-2f
 #define SS_COARSE_LS_V_RING_MID_MAX_M_PER_S 1e-3f
-#define SS_COARSE_LS_V_RING_MAX_M_PER_S 2e-4f
+#define SS_COARSE_LS_V_RING_MAX_M_PER_S 3e-4f
 #define SS_COARSE_LS_V_REL_MAX_M_PER_S 3e-3f
+/* The bounds above lean on the coarse step's flows: the rod's force ramp (both laws) and LS's
+ * slider flow. A coarse step that cannot take them (with a base it takes the fine step's form; an
+ * LS contact as stiff as x = sigma0 (n dt)^2 / M_C >= 0.1 takes the slider's kick-drift-kick; in
+ * the q family, a stack too soft for the held form) keeps the bounds they were chosen with before
+ * the flows: 1 mm/s and 0.05 mm/s, and 2 dt's LS 10 and 0.5 mm/s, LuGre's as above
+ * (ss_actuator_coarse_kicked_bounds_f32). */
+#define SS_COARSE_KICKED_V_REL_MAX_M_PER_S 1e-3f
+#define SS_COARSE_KICKED_V_RING_MAX_M_PER_S 5e-5f
+#define SS_COARSE_KICKED_LS_V_RING_MID_MAX_M_PER_S 5e-4f
 
 /* Made by ss_actuator_coarse_init_f32 from the actuator's config: init it again after a change of
  * the config's dt, piezo or rod (its flow is theirs). */
@@ -128,6 +137,11 @@ typedef struct {
  * ss_actuator_config_check_f32. */
 ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uint32_t n,
                                         ss_actuator_coarse_f32_t *co, const char **bad_field);
+
+/* Set co's bounds to the kicked form's (SS_COARSE_KICKED_*) for the friction model (ss_friction_model_t):
+ * what ss_actuator_coarse_init_f32 does where the flows cannot be taken, and the q converter for a
+ * stack too soft for the held form. */
+void ss_actuator_coarse_kicked_bounds_f32(ss_actuator_coarse_f32_t *co, int32_t friction_model);
 
 /* Advance by one step of cfg's dt, or by m = min(co->n, max_steps) >= 2 of them in one coarse step
  * where the drive is straight over them (ss_waveform_straight_f32), the contact sticks and the rod

@@ -7,6 +7,7 @@
 #include "ss_check.h"
 #include "ss_effects_inline_f32.h"
 #include "ss_exp_f32.h"
+#include "ss_friction_inline_f32.h"
 #include "ss_friction_parts_f32.h"
 #include "ss_inline.h"
 #include "ss_trig_f32.h"
@@ -669,9 +670,26 @@ ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uin
     co->v_ring_max_m_per_s = ls ? SS_COARSE_LS_V_RING_MAX_M_PER_S : SS_COARSE_V_RING_MAX_M_PER_S;
     co->v_rel_mid_max_m_per_s = ls ? SS_COARSE_LS_V_REL_MID_MAX_M_PER_S : SS_COARSE_V_REL_MID_MAX_M_PER_S;
     co->v_ring_mid_max_m_per_s = ls ? SS_COARSE_LS_V_RING_MID_MAX_M_PER_S : SS_COARSE_V_RING_MID_MAX_M_PER_S;
+    if (cfg->effects.base_mass_kg != 0.0f ||
+        (ls && cfg->friction.sigma0_n_per_m * dt * dt / cfg->slider_mass_kg >= 0.1f)) {
+        ss_actuator_coarse_kicked_bounds_f32(co, cfg->friction_model);
+    }
     rod_flow(cfg, dt, co->phi);
     rod_flow(cfg, 2.0f * cfg->dt_s, co->phi_mid);
     return SS_OK;
+}
+
+void ss_actuator_coarse_kicked_bounds_f32(ss_actuator_coarse_f32_t *co, int32_t friction_model)
+{
+    if (co == NULL) {
+        return;
+    }
+    const int ls = friction_model == SS_FRICTION_LS;
+    co->v_rel_max_m_per_s = SS_COARSE_KICKED_V_REL_MAX_M_PER_S;
+    co->v_ring_max_m_per_s = SS_COARSE_KICKED_V_RING_MAX_M_PER_S;
+    co->v_rel_mid_max_m_per_s = ls ? SS_COARSE_LS_V_REL_MID_MAX_M_PER_S : SS_COARSE_V_REL_MID_MAX_M_PER_S;
+    co->v_ring_mid_max_m_per_s =
+        ls ? SS_COARSE_KICKED_LS_V_RING_MID_MAX_M_PER_S : SS_COARSE_V_RING_MID_MAX_M_PER_S;
 }
 
 /* The coarse step that may be taken, in steps of dt, or 0: m = min(co->n, max_steps) >= 2 where the
@@ -702,28 +720,28 @@ SS_FORCE_INLINE uint32_t coarse_allowed(const ss_actuator_config_f32_t *cfg,
                : 0u;
 }
 
-/* LS's slider in a coarse step: on the contact's tangent stiffness kt (N/m), whose other end rides
- * on the rod at w (m/s, its mean over the step), under the force it starts with (a_s = (F0 + load)
- * / M_C): M_C u'' = F0 + load + kt (w t - u), u(0) = 0, u'(0) = v_s0, solved exactly over dt. With
- * om^2 = kt / M_C: u = a_s (1 - cos om dt) / om^2 + w dt + (v_s0 - w) sin(om dt) / om, and u' =
- * a_s sin(om dt) / om + w + (v_s0 - w) cos(om dt); the three functions in series in x = (om dt)^2
- * to x^2 (the next term at most x^3 / 720 = 1.4e-6 at x = 0.1, 2.4e-8 at Table I's 6 us; past 0.1,
- * and for kt <= 0, the kick-drift-kick's u = v_s0 dt + a_s dt^2 / 2). The kick-drift-kick is this flow to
- * first order in x, its ring's frequency x / 24 high: on LS's slider, which rings at 4.3 kHz through a stick
- * (x = 0.026 in 6 us), that put 0.1-0.2 % into a cycle's step over the slow edge's eight periods
- * (docs/model.md). */
+/* LS's slider in a coarse step: on the contact's stiffness kt (N/m), whose other end rides on the
+ * rod at w (m/s, its mean over the step), under the force it starts with (a_s = (F0 + load) / M_C):
+ * M_C u'' = F0 + load + kt (w t - u), u(0) = 0, u'(0) = v_s0, solved exactly over dt. With om^2 =
+ * kt / M_C: u = a_s (1 - cos om dt) / om^2 + w dt + (v_s0 - w) sin(om dt) / om, and u' = a_s sin(om
+ * dt) / om + w + (v_s0 - w) cos(om dt); the three functions in series in x = (om dt)^2 to x^2 (the
+ * next term at most x^3 / 720 = 1.4e-6 at x = 0.1, 2.4e-8 at Table I's 6 us). Past 0.1 (and at x <=
+ * 0) the kick-drift-kick's: u = v_s0 dt + a_s dt^2 / 2, u' its two kicks, the closing one with the
+ * linear contact's force at u. The kick-drift-kick is this flow to first order in x, its ring's
+ * frequency x / 24 high: on LS's slider, which rings at 4.3 kHz through a stick (x = 0.026 in 6
+ * us), that put 0.1-0.2 % into a cycle's step over the slow edge's eight periods (docs/model.md). */
 SS_FORCE_INLINE void slider_flow(float kt, float inv_mc, float dt, float a_s, float v_s0, float w, float *u,
                                  float *ud)
 {
     const float x = kt * dt * dt * inv_mc;
-    float cos_x = 1.0f;
-    float sin_over = dt;             /* sin(w dt) / w */
-    float one_less = 0.5f * dt * dt; /* (1 - cos(w dt)) / w^2 */
-    if (x > 0.0f && x < 0.1f) {
-        cos_x = 1.0f - 0.5f * x * (1.0f - x / 12.0f);
-        sin_over = dt * (1.0f - x / 6.0f * (1.0f - x / 20.0f));
-        one_less = dt * dt * (0.5f - x / 24.0f * (1.0f - x / 30.0f));
+    if (!(x > 0.0f && x < 0.1f)) {
+        *u = (v_s0 + 0.5f * a_s * dt) * dt;
+        *ud = v_s0 + a_s * dt + 0.5f * x * (w * dt - *u) / dt;
+        return;
     }
+    const float cos_x = 1.0f - 0.5f * x * (1.0f - x / 12.0f);                 /* cos(om dt) */
+    const float sin_over = dt * (1.0f - x / 6.0f * (1.0f - x / 20.0f));       /* sin(om dt) / om */
+    const float one_less = dt * dt * (0.5f - x / 24.0f * (1.0f - x / 30.0f)); /* (1 - cos) / om^2 */
     *u = a_s * one_less + w * dt + (v_s0 - w) * sin_over;
     *ud = a_s * sin_over + w + (v_s0 - w) * cos_x;
 }
@@ -765,9 +783,14 @@ SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg
     const float x_rod0 = st->x_rod_m;
     const float x_p1 =
         ss_effects_drive_inline_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, dt);
-    /* the contact's stiffness: LS's tangent, LuGre's bristles (at rest in a stick) */
+    /* the contact's stiffness: LS's (its Masing branch's tangent times the level's share of Fs and
+     * the asymmetry: ss_ls_force_at_f32's dF/dx, at the unscaled Fs), LuGre's bristles (at rest in a
+     * stick) */
+    const ss_friction_config_f32_t *f = &cfg->friction;
     const int ls = cfg->friction_model == SS_FRICTION_LS;
-    const float kt = ls ? st->fr.ls.kt_n_per_m : cfg->friction.sigma0_n_per_m;
+    const float kt =
+        ls ? ss_asymmetry_inline_f32(f, st->fr.ls.fm_n) * (st->fr.ls.level_n / f->fs_n) * st->fr.ls.kt_n_per_m
+           : f->sigma0_n_per_m;
     const float f_rod = f0 + kt * c.v_start * dt; /* the rod's closing kick is F1 - f_rod, */
     float f_ref = f0;                             /* F1 is linearised about f_ref, */
     float f_slider = -load; /* the slider's closing kick F1 - f_slider (kicked: F1 + load) */
@@ -780,7 +803,7 @@ SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg
         slider_flow(kt, c.inv_mc, dt, (f0 + load) * c.inv_mc, st->v_slider_m_per_s, dx_rod / dt, &u, &ud);
         c.dx_rel = dx_rod - u;
         f_ref = f0 + kt * c.dx_rel;
-        f_slider = f_ref; /* the flow took F0 + load over the whole step */
+        f_slider = f_ref; /* the flow's force ends at f_ref + load: the kick is F1's departure */
         turn_between(cfg, st->v_rod_m_per_s - ud, &c);
         position_add(&st->x_slider, u);
         st->v_slider_m_per_s = ud;

@@ -298,11 +298,16 @@ SS_NOINLINE void corner_response(const ss_actuator_config_q_t *cfg, int32_t h_q4
 #define SS_ACT_Q_20TH_Q30 53687091
 #define SS_ACT_Q_30TH_Q30 35791394
 
-/* LS's contact stiffness for a coarse step: sigma0 times the element's tangent kt_q30 (at most 1),
- * N/m */
+/* LS's contact stiffness for a coarse step, N/m: sigma0 times its dF/dx over sigma0 as
+ * ss_ls_force_at_q gives it (the Masing branch's tangent kt_q30 times the level's share of Fs, and
+ * the asymmetry: at most 1.9 sigma0) */
 SS_FORCE_INLINE int32_t ls_stiffness(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st)
 {
-    return (int32_t)ss_shr_round(ss_mul_s32_s64(cfg->friction.sigma0_n_per_m, st->fr.ls.kt_q30), 30);
+    const ss_friction_config_q_t *f = &cfg->friction;
+    const int32_t level_share = (int32_t)ss_shr_round(ss_mul_s32_s64(st->fr.ls.level_q24, f->inv_fs_q48), 18);
+    const int64_t k30 = ss_asymmetric_inline_q(
+        f, ss_shr_round(ss_mul_s32_s64(level_share, st->fr.ls.kt_q30), 30), st->fr.ls.fm_q24);
+    return ss_sat32(ss_shr_round(ss_mul_s32_s64(f->sigma0_n_per_m, ss_sat32(k30)), 30));
 }
 
 /* The force of stiffness kt (N/m) over dx (m at 2^-40): N at 2^-24 */
@@ -322,7 +327,8 @@ SS_FORCE_INLINE int64_t one_less_q30(int64_t a, int64_t b)
  * under the force F0 + load (dv_half: its half kick, m/s at 2^-28), from v_s0 (m/s at 2^-28): the
  * slider's travel u (m at 2^-40) and end velocity ud (m/s at 2^-28). x = kt dt^2 / M_C in Q30: kt
  * dt rounded to N s/m at 2^-16 (saturated: past 32 768 N s/m x is far beyond the series' 0.1), times
- * 2 dt / (2 M_C) (kick_slider_q40); past x = 0.1 (and at 0) the kick-drift-kick's flow. */
+ * 2 dt / (2 M_C) (kick_slider_q40); past x = 0.1 (and at 0) the kick-drift-kick's: the series' terms
+ * at x = 0, and the closing kick of the linear contact's force at u. */
 SS_FORCE_INLINE void slider_flow_q(const ss_actuator_config_q_t *cfg, int32_t kt, int32_t dx_rod,
                                    int64_t dv_half, int64_t v_s0, int32_t *u_q40, int32_t *ud_q28)
 {
@@ -347,8 +353,13 @@ SS_FORCE_INLINE void slider_flow_q(const ss_actuator_config_q_t *cfg, int32_t kt
     const int32_t h_dt = ss_sat32(ss_shr_round(ss_mul_s32_s64(h, cfg->dt_q40), 28));
     *u_q40 = ss_sat32(ss_shr_round(ss_mul_s32_s64(h_dt, (int32_t)one_less), 30) + dx_rod +
                       ss_shr_round(ss_mul_s32_s64(dv_dt, (int32_t)sin_over), 30));
-    *ud_q28 = ss_sat32(ss_shr_round(ss_mul_s32_s64(2 * h, (int32_t)sin_over), 30) + w +
-                       ss_shr_round(ss_mul_s32_s64(dv, (int32_t)cos_x), 30));
+    int64_t ud = ss_shr_round(ss_mul_s32_s64(2 * h, (int32_t)sin_over), 30) + w +
+                 ss_shr_round(ss_mul_s32_s64(dv, (int32_t)cos_x), 30);
+    if (!(x > 0 && x < SS_Q30_ONE / 10)) { /* the kick-drift-kick: the closing kick's linear contact */
+        const int32_t f = ss_sat32(contact_q24(kt, ss_sat32((int64_t)dx_rod - *u_q40)));
+        ud += ss_shr_round(ss_mul_s32_s64(f, cfg->kick_slider_q40), 36);
+    }
+    *ud_q28 = ss_sat32(ud);
 }
 
 /* A step (ss_actuator_step_q), with the drive bending at corner_frac_q30 of it to corner_q16 when
@@ -462,8 +473,9 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     st->drive_q16 = drive_q16;
 
     /* friction at the new state and the velocity the step ends with, solved for the closing kick
-     * (implicit in the damping terms): F = F_free / (1 + dF/dv dt/2 (1/M_R + 1/M_c)); the load's
-     * half kick is known and taken out of the relative velocity */
+     * (implicit in the damping terms): F = F_free / (1 + dF/dv dt/2 (1/M_R + 1/M_c)); what the
+     * closing kicks would be with F1 at its reference (the load's; in a coarse step F1 - f_rod on
+     * the rod, and the held slider's F0 + load) is known and taken out of the relative velocity */
     int64_t known_kick = 0;
     /* LS's coarse step: the force its linearised contact ends with, about which F1 is linearised */
     const int32_t f_ref = ls_flow ? ss_sat32(f0 + contact_q24(kt, dx_rel)) : f0;
@@ -486,7 +498,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     } else {
         /* where the relative motion turned inside the drift: LS's Masing memory keeps that point
          * (the float step, ss_actuator_f32.c, says why) */
-        const int64_t p1 = (int64_t)st->v_rod_q28 - st->v_slider_q28 - (ls_flow ? 0 : kick_dv);
+        const int64_t p1 = (int64_t)st->v_rod_q28 - st->v_slider_q28 - kick_dv; /* LS's flow: 0 */
         if ((v_rel_start > 0 && p1 < 0) || (v_rel_start < 0 && p1 > 0)) {
             ls_advance_turning(cfg, st, dx_rel, v_rel_start, p1);
         } else {
@@ -501,8 +513,9 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     const int64_t denom =
         SS_Q30_ONE + g +
         ((compliance_q56 == 0) ? ss_shr_round(ss_mul_s32_s64(slopes.dfdx_q30, cfg->contact_lag_q30), 30) : 0);
-    if (compliance_q56 != 0) {
-        /* held: F1 = (F_free + g F0) / (1 + g), the change linearised about F0 (as the float) */
+    if (compliance_q56 != 0 && denom > SS_ACT_Q_DENOM_MIN_Q30) {
+        /* a coarse step: F1 = (F_free + g f_ref) / (1 + g), the change linearised about f_ref (F0,
+         * or LS's linearised contact's); below the bound, F_free as the float takes it */
         f_free = ss_sat32((int64_t)f_free + ss_shr_round(ss_mul_i64_i32(g, f_ref), 30));
     }
     if (denom > SS_ACT_Q_DENOM_MIN_Q30 && denom <= INT32_MAX) {

@@ -306,6 +306,11 @@ ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t
     if (status != SS_OK) {
         return status;
     }
+    const double compliance = ldexp(1.0, 56) / (double)in->piezo_stiffness_n_per_m;
+    out->compliance_q56 = (compliance < 2147483647.0) ? (int32_t)floor(compliance + 0.5) : 0;
+    if (out->compliance_q56 == 0) { /* a stack too soft for the held form: the kicked form's bounds */
+        ss_actuator_coarse_kicked_bounds_f32(&co, in->friction_model);
+    }
     const double length = SS_QF_ONE(SS_QF_LENGTH);
     out->n = n;
     out->v_rel_max_q28 = (int32_t)floor((double)co.v_rel_max_m_per_s * SS_QF_ONE(SS_QF_VELOCITY) + 0.5);
@@ -315,8 +320,6 @@ ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t
         (int32_t)floor((double)co.v_rel_mid_max_m_per_s * SS_QF_ONE(SS_QF_VELOCITY) + 0.5);
     out->ring_mid_max_q40 =
         (int32_t)floor((double)co.v_ring_mid_max_m_per_s * (double)at_n.dt_s * length + 0.5);
-    const double compliance = ldexp(1.0, 56) / (double)in->piezo_stiffness_n_per_m;
-    out->compliance_q56 = (compliance < 2147483647.0) ? (int32_t)floor(compliance + 0.5) : 0;
     out->pad = 0;
     return SS_OK;
 }

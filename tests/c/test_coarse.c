@@ -189,6 +189,15 @@ static void test_paper_drive_holds_a_tenth_of_a_percent(void **unused)
     ls.friction_model = SS_FRICTION_LS;
     ls.dt_s = 1.5e-6f;
     paper_drive_holds(ls, 4u, 0.31, 1.8e-6);
+    /* a contact ten times as stiff: over 4 us x = sigma0 (n dt)^2 / M_C is 0.116, past the slider
+     * flow's series, and the coarse steps keep the kicked form's bounds (0.061 %, 0.52 model steps a
+     * microsecond; with LS's own bounds and the flow's fallback before it was made consistent, 6 %) */
+    ls.dt_s = 1e-6f;
+    ls.friction.sigma0_n_per_m = 1e8f;
+    ss_actuator_coarse_f32_t co;
+    assert_int_equal(ss_actuator_coarse_init_f32(&ls, 4u, &co, NULL), SS_OK);
+    assert_true(co.v_rel_max_m_per_s == SS_COARSE_KICKED_V_REL_MAX_M_PER_S);
+    paper_drive_holds(ls, 4u, 0.6, 1.5e-6);
 }
 
 static void test_waveform_straight_and_slope(void **unused)
@@ -272,7 +281,9 @@ static void test_waveform_straight_q(void **unused)
 enum { QC = 4, QROWS = QC * PAPER_PERIOD_US / 4 };
 
 /* The q coarse run of n (rows every n) against the fine q run with no coarse step allowed (bit for
- * bit) and against the float coarse run of n (each cycle's step within the q family's 1 %). */
+ * bit) and against the float coarse run of n: each cycle's step within 0.05 %, though the q family
+ * promises 1 % (docs/fixed-point.md). The two take the same coarse step in their own arithmetic and
+ * agree to 2e-5 (LuGre 8, LS 4); 5e-4 catches a coarse step whose form differs between them. */
 static void coarse_q_against_float(const ss_actuator_config_f32_t *c, const ss_actuator_config_q_t *cq,
                                    const ss_actuator_coarse_q_t *co, uint32_t n)
 {
@@ -324,12 +335,12 @@ static void coarse_q_against_float(const ss_actuator_config_f32_t *c, const ss_a
         const double sq = (double)(xa[(k + 1) * per_cycle - 1] - xa[k * per_cycle - 1]) * 0x1p-40;
         const double sf = (double)col_a[3][(k + 1) * per_cycle - 1] - (double)col_a[3][k * per_cycle - 1];
         assert_true(sf > 1.5e-6); /* a paper cycle: LuGre 2.2 um, LS 1.9-2.1 um */
-        assert_close(sq, sf, 1e-2 * sf);
+        assert_close(sq, sf, 5e-4 * sf);
     }
 }
 
 /* The q family's coarse steps: with none allowed, ss_actuator_run_q's bits; with them, each cycle's
- * step within the q family's 1 % of the float coarse run's (0.002-0.032 % against the converged
+ * step within 0.05 % of the float coarse run's (0.002-0.032 % against the converged
  * float run measured: bench/step_study.py --variant q --coarse 4), and about its model steps. */
 static void test_coarse_q(void **unused)
 {
@@ -367,9 +378,22 @@ static void test_coarse_q(void **unused)
     assert_int_equal(ss_actuator_coarse_to_q(&c, 8u, &co, &bad), SS_OK);
     assert_true(co.cfg.kick_rod_q40 > (uint32_t)INT32_MAX);
     coarse_q_against_float(&c, &cq, &co, 8u);
+    /* a stack too soft for the held form (compliance past 2^31 at 2^-56): the kicked form, and its
+     * bounds (1 mm/s at 2^-28) */
+    ss_actuator_config_f32_t soft = c;
+    soft.piezo_stiffness_n_per_m = 2e7f;
+    assert_int_equal(ss_actuator_coarse_to_q(&soft, 4u, &co, &bad), SS_OK);
+    assert_int_equal(co.compliance_q56, 0);
+    assert_int_equal(co.v_rel_max_q28, 268435);
     /* LS: its slider's flow on the contact in q against the float's (at 1 us, so that the periods
      * are whole steps) */
     other.dt_s = 1e-6f;
+    assert_int_equal(ss_actuator_config_to_q(&other, &cq, &bad), SS_OK);
+    assert_int_equal(ss_actuator_coarse_to_q(&other, 4u, &co, &bad), SS_OK);
+    coarse_q_against_float(&other, &cq, &co, 4u);
+    /* and a contact eight times as stiff, x = 0.093 over 4 us, near the top of the flow's series,
+     * where each of its terms moves a cycle by 0.04-1.1 % (agreement 4e-5) */
+    other.friction.sigma0_n_per_m = 8e7f;
     assert_int_equal(ss_actuator_config_to_q(&other, &cq, &bad), SS_OK);
     assert_int_equal(ss_actuator_coarse_to_q(&other, 4u, &co, &bad), SS_OK);
     coarse_q_against_float(&other, &cq, &co, 4u);
