@@ -130,15 +130,15 @@ typedef struct {
 } ss_actuator_coarse_f32_t;
 
 /* The coarse steps for n steps of cfg's dt, with the bounds above (chosen on Table I: LuGre at
- * dt = 1 us, n = 8, worst per-cycle error over issue 17's drive matrix 0.065 %, 0.31 model steps a
- * microsecond, 12 and 16 pass 0.1 %; LS at 1.5 us, n = 4, 0.064 %, 0.41; bench/step_study.py
+ * dt = 1 us, n = 8, worst per-cycle error over issue 17's drive matrix 0.067 %, 0.275 model steps a
+ * microsecond on the paper's drive; LS at 1.5 us, n = 4, 0.072 %, 0.290; bench/step_study.py
  * --coarse N). SS_ERR_RANGE with bad_field "friction_model" for GMS, "coarse_n" for n outside
  * [2, 64] or n dt past the config's range of dt; the config's own errors as
  * ss_actuator_config_check_f32. */
 ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uint32_t n,
                                         ss_actuator_coarse_f32_t *co, const char **bad_field);
 
-/* Set co's bounds to the kicked form's (SS_COARSE_KICKED_*) for the friction model (ss_friction_model_t):
+/* Set co's bounds to the kicked form's (SS_COARSE_KICKED_*) for the friction model (ss_friction_kind_t):
  * what ss_actuator_coarse_init_f32 does where the flows cannot be taken, and the q converter for a
  * stack too soft for the held form. */
 void ss_actuator_coarse_kicked_bounds_f32(ss_actuator_coarse_f32_t *co, int32_t friction_model);
