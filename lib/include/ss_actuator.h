@@ -115,6 +115,9 @@ ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_ac
 #define SS_COARSE_KICKED_V_REL_MAX_M_PER_S 1e-3f
 #define SS_COARSE_KICKED_V_RING_MAX_M_PER_S 5e-5f
 #define SS_COARSE_KICKED_LS_V_RING_MID_MAX_M_PER_S 5e-4f
+/* The x = sigma0 (n dt)^2 / M_C below which LS's slider flow holds (its series to x^2); the q
+ * family's is the same in Q30 (ss_actuator_q.c) */
+#define SS_COARSE_FLOW_X_MAX 0.1f
 
 /* Made by ss_actuator_coarse_init_f32 from the actuator's config: init it again after a change of
  * the config's dt, piezo or rod (its flow is theirs). */

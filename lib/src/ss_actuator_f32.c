@@ -671,7 +671,7 @@ ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uin
     co->v_rel_mid_max_m_per_s = ls ? SS_COARSE_LS_V_REL_MID_MAX_M_PER_S : SS_COARSE_V_REL_MID_MAX_M_PER_S;
     co->v_ring_mid_max_m_per_s = ls ? SS_COARSE_LS_V_RING_MID_MAX_M_PER_S : SS_COARSE_V_RING_MID_MAX_M_PER_S;
     if (cfg->effects.base_mass_kg != 0.0f ||
-        (ls && cfg->friction.sigma0_n_per_m * dt * dt / cfg->slider_mass_kg >= 0.1f)) {
+        (ls && cfg->friction.sigma0_n_per_m * dt * dt / cfg->slider_mass_kg >= SS_COARSE_FLOW_X_MAX)) {
         ss_actuator_coarse_kicked_bounds_f32(co, cfg->friction_model);
     }
     rod_flow(cfg, dt, co->phi);
@@ -734,7 +734,7 @@ SS_FORCE_INLINE void slider_flow(float kt, float inv_mc, float dt, float a_s, fl
                                  float *ud)
 {
     const float x = kt * dt * dt * inv_mc;
-    if (!(x > 0.0f && x < 0.1f)) {
+    if (!(x > 0.0f && x < SS_COARSE_FLOW_X_MAX)) {
         *u = (v_s0 + 0.5f * a_s * dt) * dt;
         *ud = v_s0 + a_s * dt + 0.5f * x * (w * dt - *u) / dt;
         return;

@@ -134,11 +134,15 @@ ss_status_t ss_actuator_init_q(const ss_actuator_config_q_t *cfg, ss_actuator_st
 
 /* The slider's velocity after half a step of force_q24 and the load on it: N at 2^-24 times
  * (m/s)/N at 2^-40 is m/s at 2^-64. */
+SS_FORCE_INLINE int64_t slider_dv_q28(const ss_actuator_config_q_t *cfg, int64_t force_q24)
+{
+    return ss_shr_round(ss_mul_i64_i32(force_q24, cfg->kick_slider_q40), 36);
+}
+
 SS_FORCE_INLINE int32_t slider_kicked_q28(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
                                           int32_t force_q24)
 {
-    const int64_t on_slider = (int64_t)force_q24 + cfg->effects.load_q24;
-    return ss_sat32(st->v_slider_q28 + ss_shr_round(ss_mul_i64_i32(on_slider, cfg->kick_slider_q40), 36));
+    return ss_sat32(st->v_slider_q28 + slider_dv_q28(cfg, (int64_t)force_q24 + cfg->effects.load_q24));
 }
 
 /* The rod's velocity after half a step of force_q24 on it, the other way (a coarse step's kick_rod
@@ -293,6 +297,9 @@ SS_NOINLINE void corner_response(const ss_actuator_config_q_t *cfg, int32_t h_q4
         ss_shr_round(ss_mul_s32_s64((int32_t)ss_shr_round(hw * p0, 30), cfg->inv_dt_q47), 47 - SS_QF_DXDT);
 }
 
+/* The slider flow's series holds below x = 0.1 (SS_COARSE_FLOW_X_MAX of the float family), in Q30 */
+#define SS_ACT_Q_FLOW_X_MAX_Q30 (SS_Q30_ONE / 10)
+
 /* 1/12, 1/20 and 1/30 in Q30, rounded: the slider flow's series (with SS_ACT_Q_SIXTH_Q30) */
 #define SS_ACT_Q_12TH_Q30 89478485
 #define SS_ACT_Q_20TH_Q30 53687091
@@ -334,10 +341,11 @@ SS_FORCE_INLINE void slider_flow_q(const ss_actuator_config_q_t *cfg, int32_t kt
 {
     const int32_t kt_dt = ss_sat32(ss_shr_round(ss_mul_s32_s64(kt, cfg->dt_q40), 24));
     const int64_t x = ss_shr_round(ss_mul_s32_s64(kt_dt, cfg->kick_slider_q40), 25);
-    int64_t cos_x = SS_Q30_ONE;         /* cos(om dt), om^2 = kt / M_C */
-    int64_t sin_over = SS_Q30_ONE;      /* sin(om dt) / (om dt) */
-    int64_t one_less = SS_Q30_ONE;      /* 2 (1 - cos(om dt)) / (om dt)^2 */
-    if (x > 0 && x < SS_Q30_ONE / 10) { /* x and every factor below 2^31: 32 x 32 -> 64 products */
+    int64_t cos_x = SS_Q30_ONE;    /* cos(om dt), om^2 = kt / M_C */
+    int64_t sin_over = SS_Q30_ONE; /* sin(om dt) / (om dt) */
+    int64_t one_less = SS_Q30_ONE; /* 2 (1 - cos(om dt)) / (om dt)^2 */
+    const int series = x > 0 && x < SS_ACT_Q_FLOW_X_MAX_Q30;
+    if (series) { /* x and every factor below 2^31: 32 x 32 -> 64 products */
         const int32_t x32 = (int32_t)x;
         const int64_t x12 = ss_shr_round(ss_mul_s32_s64(x32, SS_ACT_Q_12TH_Q30), 30);
         cos_x = one_less_q30(x / 2, x12);
@@ -355,9 +363,9 @@ SS_FORCE_INLINE void slider_flow_q(const ss_actuator_config_q_t *cfg, int32_t kt
                       ss_shr_round(ss_mul_s32_s64(dv_dt, (int32_t)sin_over), 30));
     int64_t ud = ss_shr_round(ss_mul_s32_s64(2 * h, (int32_t)sin_over), 30) + w +
                  ss_shr_round(ss_mul_s32_s64(dv, (int32_t)cos_x), 30);
-    if (!(x > 0 && x < SS_Q30_ONE / 10)) { /* the kick-drift-kick: the closing kick's linear contact */
+    if (!series) { /* the kick-drift-kick: the closing kick's linear contact */
         const int32_t f = ss_sat32(contact_q24(kt, ss_sat32((int64_t)dx_rod - *u_q40)));
-        ud += ss_shr_round(ss_mul_s32_s64(f, cfg->kick_slider_q40), 36);
+        ud += slider_dv_q28(cfg, f);
     }
     *ud_q28 = ss_sat32(ud);
 }
@@ -456,10 +464,9 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     int32_t dx_slider;
     int32_t v_slider_end = st->v_slider_q28; /* after the drift, before the closing kick */
     if (ls_flow) {
-        slider_flow_q(
-            cfg, kt, ss_sat32((int64_t)x_rod1 - st->x_rod_q40),
-            ss_shr_round(ss_mul_i64_i32((int64_t)cfg->effects.load_q24 + f0, cfg->kick_slider_q40), 36),
-            st->v_slider_q28, &dx_slider, &v_slider_end);
+        slider_flow_q(cfg, kt, ss_sat32((int64_t)x_rod1 - st->x_rod_q40),
+                      slider_dv_q28(cfg, (int64_t)cfg->effects.load_q24 + f0), st->v_slider_q28, &dx_slider,
+                      &v_slider_end);
     } else {
         dx_slider = ss_sat32(ss_shr_round(ss_mul_s32_s64(st->v_slider_q28, cfg->dt_q40), 28));
     }
@@ -483,8 +490,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
         known_kick =
             ss_shr_round(ss_mul_s32_u32_s64(ss_sat32((int64_t)f_ref - f_rod), cfg->kick_rod_q40), 36);
         if (!ls_flow) { /* and the slider's, F0 + load's */
-            known_kick +=
-                ss_shr_round(ss_mul_i64_i32((int64_t)cfg->effects.load_q24 + f0, cfg->kick_slider_q40), 36);
+            known_kick += slider_dv_q28(cfg, (int64_t)cfg->effects.load_q24 + f0);
         }
     } else if (cfg->effects.load_q24 != 0) {
         known_kick = ss_shr_round((int64_t)cfg->effects.load_q24 * cfg->kick_slider_q40, 36);
@@ -536,9 +542,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     } else {
         st->v_rod_q28 = rod_kicked_q28(cfg, st, ss_sat32((int64_t)st->force_q24 - f_rod));
         st->v_slider_q28 =
-            ls_flow ? ss_sat32(st->v_slider_q28 +
-                               ss_shr_round(
-                                   ss_mul_i64_i32((int64_t)st->force_q24 - f_ref, cfg->kick_slider_q40), 36))
+            ls_flow ? ss_sat32(st->v_slider_q28 + slider_dv_q28(cfg, (int64_t)st->force_q24 - f_ref))
                     : slider_kicked_q28(cfg, st, st->force_q24);
     }
     st->steps++;
