@@ -1,7 +1,7 @@
 """The fixed-point bench's configs (fw/bench_q_config.h): Table I at the step at which LS holds
 issue 17's 0.1 % a cycle (bench/step_study.py --variant q: 0.070 % at 1.5 us), and the coarse
 steps: LS's of 4 at 1.5 us (ss_actuator_coarse_to_q; --variant q --coarse 4: 0.068 %), LuGre's of 8
-at 1 us (--coarse 8: 0.066 %), through the host
+at 1 us (--coarse 8: 0.066 %) and with stick steps of 40 (--coarse 8 --stick 40), through the host
 converter (in double), which the integer-only bench image does not link.
 tests/python/test_firmware_q.py checks that the committed header is what this prints.
 
@@ -17,12 +17,20 @@ from stickslip import _native as N
 LS_STEP_S = 1.5e-6
 LS_COARSE_N = 4  # 6 us: a q config holds dt / 2 M_R to 8.6 us for Table I's rod
 COARSE_N = 8
+STICK_N = 40  # LuGre's stick steps (--variant q --coarse 8 --stick 40)
 
 
 def coarse_q(cfg, n: int):
     """ss_actuator_coarse_to_q of cfg's coarse steps of n."""
     co = N.ActuatorCoarseQ()
     N.check(N.lib.ss_actuator_coarse_to_q(C.byref(cfg), n, C.byref(co), None), "coarse")
+    return co
+
+
+def stick_q(cfg, n: int, stick_n: int):
+    """coarse_q with stick steps of stick_n (ss_actuator_coarse_stick_to_q)."""
+    co = coarse_q(cfg, n)
+    N.check(N.lib.ss_actuator_coarse_stick_to_q(C.byref(cfg), stick_n, C.byref(co), None), "stick")
     return co
 
 
@@ -50,6 +58,9 @@ def header() -> str:
             "",
             f"/* Table I, LuGre, dt 1 us: coarse steps of {COARSE_N} (ss_actuator_coarse_to_q) */",
             *N.c_define("SS_BENCH_Q_LUGRE_COARSE", coarse_q(lugre, COARSE_N)),
+            "",
+            f"/* ... with stick steps of {STICK_N} (ss_actuator_coarse_stick_to_q) */",
+            *N.c_define("SS_BENCH_Q_LUGRE_STICK", stick_q(lugre, COARSE_N, STICK_N)),
             "/* clang-format on */",
             "",
             "#endif /* SS_BENCH_Q_CONFIG_H */",

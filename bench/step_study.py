@@ -17,6 +17,14 @@ each drive's error and model steps per microsecond (issue 17's figures: LuGre 8 
     PYTHONPATH=hil .venv/bin/python bench/step_study.py --models lugre --steps-us 1 --coarse 8
     PYTHONPATH=hil .venv/bin/python bench/step_study.py --models ls --steps-us 1.5 --coarse 4
 
+--stick L adds LuGre's stick steps of L where the contact has stopped ringing (docs/model.md,
+"Stick steps"), with rows every L steps; the per-cycle steps of the run and of its reference are
+then read before each fast edge (edge_cycle_steps), and the table compares with the same run
+without them (issue 17's figure: 40 at 1 us with coarse steps of 8):
+
+    PYTHONPATH=hil .venv/bin/python bench/step_study.py --models lugre --steps-us 1 --coarse 8 \
+        --stick 40
+
 --param sets an actuator parameter (ActuatorParams' names) for every run, reference included: an
 experiment on what limits the step (docs/model.md), not the criterion, which is Table I's.
 """
@@ -42,7 +50,7 @@ def steps(*args, **kw) -> np.ndarray:
     return run(*args, **kw)[0]
 
 
-def run(
+def simulated(
     model: str,
     f_hz: float,
     direction: int,
@@ -51,20 +59,50 @@ def run(
     variant: str = "f32",
     params: ActuatorParams | None = None,
     coarse: int = 1,
-) -> tuple[np.ndarray, float]:
-    """The per-cycle steps after the first, and the model steps a microsecond of the run took."""
+    stick: int = 0,
+    rows: int = 0,
+):
+    """The run (a SimResult) and the model steps a microsecond it took; rows every `rows` steps
+    (0: every stick or coarse step's length)."""
     w = Sawtooth(frequency_hz=f_hz, amplitude_v=100.0, direction=direction, cycles=CYCLES[f_hz])
     r = simulate(
         w.with_fall_time(fall_s),
         params=params,
         model=model,
         dt_s=dt_s,
-        decimation=coarse,  # a coarse step never crosses a row
+        decimation=rows or stick or coarse,  # a coarse or stick step never crosses a row
         variant=variant,
         coarse_steps=coarse,
+        stick_steps=stick,
     )
     n_steps = r.meta.get("model_steps", len(r.t_s) - 1)
-    return r.per_cycle_steps()[1:], n_steps / (w.duration_s * 1e6)
+    return r, n_steps / (w.duration_s * 1e6)
+
+
+def run(*args, **kw) -> tuple[np.ndarray, float]:
+    """The per-cycle steps after the first of a simulated() run, and its model steps a
+    microsecond."""
+    r, per_us = simulated(*args, **kw)
+    return r.per_cycle_steps()[1:], per_us
+
+
+def edge_cycle_steps(r, ref) -> tuple[np.ndarray, np.ndarray]:
+    """The slider's travel in r and in ref between r's last rows before each fast edge: once the
+    runs are periodic, a cycle's step, read where the slider has stuck longest. Rows a stick step
+    apart (tens of us) interpolated across the slip at a period's boundary would put the record's
+    coarseness into the figure (0.1-0.8 % at 40-128 us on the 1 and 2 kHz drives, the same with or
+    without stick steps), and so would a point between rows; at r's own rows (the reference
+    interpolated there, at its 0.125 us) it does not. The first value spans the first fall, from
+    rest: left out, as the boundary figures' first."""
+    w = r.waveform
+    t = r.t_s - r.t_s[0]
+    # the fast edge: at the end of a forward period, at the start of a reversed one
+    edge = w.rise_fraction if w.direction > 0 else 1.0
+    ends = (np.arange(w.cycles) + edge) * w.period_s
+    rows = np.unique(np.searchsorted(t, ends[ends <= t[-1]], side="right") - 1)
+    rows = rows[rows >= 0]
+    t_ref = ref.t_s - ref.t_s[0]
+    return np.diff(r.x_slider_m[rows])[1:], np.diff(np.interp(t[rows], t_ref, ref.x_slider_m))[1:]
 
 
 def parse_params(items: list[str]) -> ActuatorParams:
@@ -93,6 +131,9 @@ def main() -> None:
     ap.add_argument("--models", default="ls,lugre", help="laws, comma-separated (ls, lugre, gms)")
     ap.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
     ap.add_argument("--coarse", type=int, default=1, metavar="N", help="coarse steps of up to N")
+    ap.add_argument(
+        "--stick", type=int, default=0, metavar="L", help="stick steps of L (LuGre, with --coarse)"
+    )
     a = ap.parse_args()
     params = parse_params(a.param)
     models = a.models.split(",")
@@ -102,16 +143,44 @@ def main() -> None:
     for model in models:
         for f_hz, fall_s in DRIVES:
             for direction in (1, -1):
-                ref = steps(model, f_hz, direction, fall_s, REF_DT_S, params=params)
+                drive = (model, f_hz, direction, fall_s)
+                if a.stick:
+                    ref_run = simulated(*drive, REF_DT_S, params=params)[0]
+                else:
+                    ref = steps(*drive, REF_DT_S, params=params)
                 case = f"{f_hz:g} Hz {'fwd' if direction > 0 else 'rev'} {fall_s * 1e6:g} us"
                 for dt in dts:
-                    s, per_us = run(model, f_hz, direction, fall_s, dt, a.variant, params, a.coarse)
+                    if a.stick:
+                        # the same rows without stick steps: what the figure itself gives there
+                        r0, per_us0 = simulated(*drive, dt, a.variant, params, a.coarse, 0, a.stick)
+                        s0, ref0 = edge_cycle_steps(r0, ref_run)
+                        err0 = 100 * float(np.max(np.abs(s0 / ref0[: len(s0)] - 1)))
+                        r, per_us = simulated(*drive, dt, a.variant, params, a.coarse, a.stick)
+                        s, ref = edge_cycle_steps(r, ref_run)
+                    else:
+                        s, per_us = run(*drive, dt, a.variant, params, a.coarse)
                     n = len(s)  # a run that stops short of its drive's end has one cycle fewer
                     err = 100 * float(np.max(np.abs(s / ref[:n] - 1)))
-                    rows.append(f"| {model} | {case} | {dt * 1e6:g} | {err:.3f} % | {per_us:.3f} |")
+                    if a.stick:
+                        rows.append(
+                            f"| {model} | {case} | {dt * 1e6:g} | {err0:.3f} % | {err:.3f} % | "
+                            f"{per_us0:.3f} | {per_us:.3f} |"
+                        )
+                    else:
+                        rows.append(
+                            f"| {model} | {case} | {dt * 1e6:g} | {err:.3f} % | {per_us:.3f} |"
+                        )
                     if err > worst.get((model, dt), (-1.0, ""))[0]:
                         worst[(model, dt)] = (err, case)
-    if a.coarse > 1:
+    if a.stick:
+        print(
+            f"| law | drive | step (us) | error before the fast edge, coarse steps of {a.coarse}, "
+            f"rows every {a.stick} | ... and stick steps of {a.stick} | model steps per us | "
+            "... with stick steps |"
+        )
+        print("|---|---|---|---|---|---|---|")
+        print("\n".join(rows))
+    elif a.coarse > 1:
         print(
             f"| law | drive | step (us) | per-cycle error, coarse steps of {a.coarse} | "
             "model steps per us |"

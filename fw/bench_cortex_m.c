@@ -53,6 +53,34 @@ static void print_merit(const ss_port_link_t *link, const char *name, double mod
     print(link, line);
 }
 
+/* LuGre's stick steps (bench/step_study.py --coarse 8 --stick 40) */
+#define STICK_N 40u
+
+/* A coarse run of BENCH_STEPS steps of dt with rows every `rows`: the same model time in fewer
+ * model steps; the player advanced every step of dt but read once a model step (advance_ns,
+ * player_ns: player_cost's) */
+static void coarse_run(const ss_port_link_t *link, const char *name, const ss_actuator_config_f32_t *cfg,
+                       const ss_actuator_coarse_f32_t *co, const ss_waveform_config_f32_t *w,
+                       uint32_t rows_every, uint64_t advance_ns, uint64_t player_ns, const char *what)
+{
+    static ss_actuator_state_f32_t st;
+    ss_waveform_state_f32_t ws;
+    char line[160];
+    (void)ss_waveform_init_f32(w, cfg->dt_s, &ws);
+    (void)ss_actuator_init_f32(cfg, &st, 0.0f);
+    uint32_t rows = 0;
+    uint32_t model_steps = 0;
+    const uint64_t t3 = link->time_ns(link->ctx);
+    (void)ss_actuator_run_coarse_f32(cfg, co, &st, w, &ws, BENCH_STEPS, rows_every, NULL, &rows,
+                                     &model_steps);
+    const uint64_t t4 = link->time_ns(link->ctx);
+    const double value_ns = (double)(player_ns - advance_ns) / BENCH_STEPS;
+    (void)snprintf(line, sizeof line, "bench %s: %lu model steps for %lu steps of dt\n", name,
+                   (unsigned long)model_steps, (unsigned long)BENCH_STEPS);
+    print(link, line);
+    print_merit(link, name, (double)(t4 - t3) - (double)advance_ns - value_ns * model_steps, cfg->dt_s, what);
+}
+
 int main(void)
 {
     const ss_port_link_t *link = ss_cortex_m_init();
@@ -93,21 +121,18 @@ int main(void)
          * player advanced every step of dt but read once a model step */
         ss_actuator_coarse_f32_t co;
         (void)ss_actuator_coarse_init_f32(&cfg, coarse_n[m], &co, NULL);
-        (void)ss_waveform_init_f32(&w, cfg.dt_s, &ws);
-        (void)ss_actuator_init_f32(&cfg, &st, 0.0f);
-        uint32_t model_steps = 0;
-        const uint64_t t3 = link->time_ns(link->ctx);
-        (void)ss_actuator_run_coarse_f32(&cfg, &co, &st, &w, &ws, BENCH_STEPS, coarse_n[m], NULL, &rows,
-                                         &model_steps);
-        const uint64_t t4 = link->time_ns(link->ctx);
-        const double value_ns = (double)(player_ns - advance_ns) / BENCH_STEPS;
-        char name[32];
+        char name[48];
         (void)snprintf(name, sizeof name, "%s coarse %lu", names[m], (unsigned long)coarse_n[m]);
-        (void)snprintf(line, sizeof line, "bench %s: %lu model steps for %lu steps of dt\n", name,
-                       (unsigned long)model_steps, (unsigned long)BENCH_STEPS);
-        print(link, line);
-        print_merit(link, name, (double)(t4 - t3) - (double)advance_ns - value_ns * model_steps, cfg.dt_s,
-                    " (coarse steps)");
+        coarse_run(link, name, &cfg, &co, &w, coarse_n[m], advance_ns, player_ns, " (coarse steps)");
+        if (m == SS_FRICTION_LUGRE) {
+            /* and stick steps of STICK_N once the contact has stopped ringing (docs/model.md), with
+             * rows every STICK_N steps */
+            (void)ss_actuator_coarse_stick_f32(&cfg, STICK_N, &co, NULL);
+            (void)snprintf(name, sizeof name, "%s coarse %lu stick %lu", names[m], (unsigned long)coarse_n[m],
+                           (unsigned long)STICK_N);
+            coarse_run(link, name, &cfg, &co, &w, STICK_N, advance_ns, player_ns,
+                       " (coarse and stick steps)");
+        }
     }
     ss_cortex_m_exit(0);
     return 0;

@@ -140,6 +140,17 @@
     .ring_mid_max_q40 = 3299, \
     .compliance_q56 = 346430741, \
     .pad = 0, \
+    .stick_n = 0, \
+    .stick_h_q40 = 0, \
+    .stick_inv_h_q47 = 0, \
+    .stick_omega_q47 = 0, \
+    .stick_inv_omega_q40 = 0, \
+    .stick_lag_q30 = 0, \
+    .stick_v_rel_max_q28 = 0, \
+    .stick_ring_max_q40 = 0, \
+    .stick_force_max_q24 = 0, \
+    .stick_phi_shift = 0, \
+    .stick_phi_q = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, \
 }
 
 /* Table I, LuGre, dt 1 us: coarse steps of 8 (ss_actuator_coarse_to_q) */
@@ -233,6 +244,121 @@
     .ring_mid_max_q40 = 440, \
     .compliance_q56 = 346430741, \
     .pad = 0, \
+    .stick_n = 0, \
+    .stick_h_q40 = 0, \
+    .stick_inv_h_q47 = 0, \
+    .stick_omega_q47 = 0, \
+    .stick_inv_omega_q40 = 0, \
+    .stick_lag_q30 = 0, \
+    .stick_v_rel_max_q28 = 0, \
+    .stick_ring_max_q40 = 0, \
+    .stick_force_max_q24 = 0, \
+    .stick_phi_shift = 0, \
+    .stick_phi_q = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, \
+}
+
+/* ... with stick steps of 40 (ss_actuator_coarse_stick_to_q) */
+#define SS_BENCH_Q_LUGRE_STICK \
+{ \
+    .cfg = { \
+        .dt_q40 = 8796093, \
+        .piezo_gain_q48 = 12384899, \
+        .friction_model = 1, \
+        .lag_q24 = 62511, \
+        .kick_rod_q40 = 3998224113, \
+        .kick_slider_q40 = 318699025, \
+        .phi_q28 = {-248242346, -24953744, 301985673, -247117159}, \
+        .friction = { \
+            .fs_q24 = 60397980, \
+            .fc_q24 = 50331648, \
+            .vs_q28 = 107374, \
+            .sigma0_n_per_m = 10000000, \
+            .sigma1_q16 = 5242880, \
+            .sigma2_q16 = 524288, \
+            .asymmetry_q30 = 0, \
+            .inv_vs_q45 = 327680557, \
+            .inv_sigma0_q47 = 14073749, \
+            .inv_fs_q48 = 4660338, \
+            .sat_length_q40 = 9499780, \
+        }, \
+        .inv_dt_q47 = 16000000, \
+        .effects = { \
+            .load_q24 = 0, \
+            .slew_q24 = 0, \
+            .sensor_scale_q30 = 0, \
+            .hysteresis_alpha_q30 = 0, \
+            .hysteresis_width_q40 = 0, \
+            .pad = 0, \
+            .hysteresis_inv_width_q48 = 0, \
+            .base_kick_q40 = 0, \
+            .base_stiffness_n_per_m = 0, \
+            .base_damping_q16 = 0, \
+            .piezo_stiffness_n_per_m = 0, \
+            .piezo_damping_q16 = 0, \
+            .pad2 = 0, \
+        }, \
+        .contact_lag_q30 = 52060210, \
+        .rod_w2dt2_q28 = 0, \
+    }, \
+    .cfg_mid = { \
+        .dt_q40 = 2199023, \
+        .piezo_gain_q48 = 12384899, \
+        .friction_model = 1, \
+        .lag_q24 = 250045, \
+        .kick_rod_q40 = 999555915, \
+        .kick_slider_q40 = 79674747, \
+        .phi_q28 = {173509959, 234528950, -177389129, 170866179}, \
+        .friction = { \
+            .fs_q24 = 60397980, \
+            .fc_q24 = 50331648, \
+            .vs_q28 = 107374, \
+            .sigma0_n_per_m = 10000000, \
+            .sigma1_q16 = 5242880, \
+            .sigma2_q16 = 524288, \
+            .asymmetry_q30 = 0, \
+            .inv_vs_q45 = 327680557, \
+            .inv_sigma0_q47 = 14073749, \
+            .inv_fs_q48 = 4660338, \
+            .sat_length_q40 = 9499780, \
+        }, \
+        .inv_dt_q47 = 64000007, \
+        .effects = { \
+            .load_q24 = 0, \
+            .slew_q24 = 0, \
+            .sensor_scale_q30 = 0, \
+            .hysteresis_alpha_q30 = 0, \
+            .hysteresis_width_q40 = 0, \
+            .pad = 0, \
+            .hysteresis_inv_width_q48 = 0, \
+            .base_kick_q40 = 0, \
+            .base_stiffness_n_per_m = 0, \
+            .base_damping_q16 = 0, \
+            .piezo_stiffness_n_per_m = 0, \
+            .piezo_damping_q16 = 0, \
+            .pad2 = 0, \
+        }, \
+        .contact_lag_q30 = 3253762, \
+        .rod_w2dt2_q28 = 203034772, \
+    }, \
+    .n = 8, \
+    .v_rel_max_q28 = 402653, \
+    .ring_max_q40 = 440, \
+    .ring_max_2_q40 = 110, \
+    .v_rel_mid_max_q28 = 1342177, \
+    .ring_mid_max_q40 = 440, \
+    .compliance_q56 = 346430741, \
+    .pad = 0, \
+    .stick_n = 40, \
+    .stick_h_q40 = 43980465, \
+    .stick_inv_h_q47 = 3200000, \
+    .stick_omega_q47 = 55660268, \
+    .stick_inv_omega_q40 = 2528509, \
+    .stick_lag_q30 = 800144, \
+    .stick_v_rel_max_q28 = 134218, \
+    .stick_ring_max_q40 = 2199, \
+    .stick_force_max_q24 = 5033165, \
+    .stick_phi_shift = 26, \
+    .stick_phi_q = {4223183, -10548457, -957439, 43642848, 10548456, 5983100, 674386, -1623196, -19914738, -14027213, 35257404, -817797952, -3478778, -129385, 3133982, 24221648}, \
 }
 /* clang-format on */
 

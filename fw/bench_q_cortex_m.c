@@ -17,13 +17,17 @@ static void print(const ss_port_link_t *link, const char *line, size_t n)
     (void)link->write(link->ctx, (const uint8_t *)line, n);
 }
 
-/* "bench q NAME coarse N: ", each coarse line's start */
-static void put_coarse_name(char *line, size_t *n, const char *name, uint32_t coarse_n)
+/* "bench q NAME coarse N: " (or "... coarse N stick L: "), each coarse line's start */
+static void put_coarse_name(char *line, size_t *n, const char *name, const ss_actuator_coarse_q_t *co)
 {
     ss_fmt_put_str(line, n, "bench q ");
     ss_fmt_put_str(line, n, name);
     ss_fmt_put_str(line, n, " coarse ");
-    ss_fmt_put_i64(line, n, coarse_n);
+    ss_fmt_put_i64(line, n, co->n);
+    if (co->stick_n != 0u) {
+        ss_fmt_put_str(line, n, " stick ");
+        ss_fmt_put_i64(line, n, co->stick_n);
+    }
     ss_fmt_put_str(line, n, ": ");
 }
 
@@ -34,7 +38,7 @@ static void put_coarse_name(char *line, size_t *n, const char *name, uint32_t co
  * (player_ns: advance and read, each step). */
 static void coarse_bench(const ss_port_link_t *link, const char *name, const ss_actuator_config_q_t *cfg,
                          const ss_actuator_coarse_q_t *co, const ss_waveform_config_q_t *w,
-                         uint64_t player_ns)
+                         uint64_t player_ns, uint32_t rows_every)
 {
     static ss_actuator_state_q_t st;
     ss_waveform_state_q_t ws;
@@ -49,7 +53,7 @@ static void coarse_bench(const ss_port_link_t *link, const char *name, const ss_
     uint32_t rows = 0;
     uint32_t model_steps = 0;
     const uint64_t t1 = link->time_ns(link->ctx);
-    ok = ok && ss_actuator_run_coarse_q(cfg, co, &st, w, &ws, BENCH_STEPS, co->n, NULL, &rows,
+    ok = ok && ss_actuator_run_coarse_q(cfg, co, &st, w, &ws, BENCH_STEPS, rows_every, NULL, &rows,
                                         &model_steps) == SS_OK;
     const uint64_t t2 = link->time_ns(link->ctx);
     const uint64_t read_ns = (player_ns - advance_ns) * model_steps / BENCH_STEPS;
@@ -57,7 +61,7 @@ static void coarse_bench(const ss_port_link_t *link, const char *name, const ss_
     const uint64_t model_ns = ((uint64_t)BENCH_STEPS * (((uint64_t)cfg->dt_q40 * 1000000000u) >> 20)) >> 20;
     char line[160];
     size_t n = 0;
-    put_coarse_name(line, &n, name, co->n);
+    put_coarse_name(line, &n, name, co);
     ss_fmt_put_i64(line, &n, model_steps);
     ss_fmt_put_str(line, &n, " model steps for ");
     ss_fmt_put_i64(line, &n, BENCH_STEPS);
@@ -67,9 +71,12 @@ static void coarse_bench(const ss_port_link_t *link, const char *name, const ss_
     ss_fmt_put_str(line, &n, ok ? "\n" : " (MODEL ERROR)\n");
     print(link, line, n);
     n = 0;
-    put_coarse_name(line, &n, name, co->n);
+    put_coarse_name(line, &n, name, co);
     ss_fmt_put_i64(line, &n, (int64_t)((model_instructions * 1000u + model_ns / 2u) / model_ns));
-    ss_fmt_put_str(line, &n, " instructions per microsecond of model time (coarse steps)\n");
+    ss_fmt_put_str(line, &n,
+                   (co->stick_n != 0u)
+                       ? " instructions per microsecond of model time (coarse and stick steps)\n"
+                       : " instructions per microsecond of model time (coarse steps)\n");
     print(link, line, n);
     if (!ok) {
         ss_cortex_m_exit(1);
@@ -137,7 +144,12 @@ int main(void)
         if (!ok) {
             ss_cortex_m_exit(1);
         }
-        coarse_bench(link, names[m], &cfg, &coarse[m], &w, t1 - t0);
+        coarse_bench(link, names[m], &cfg, &coarse[m], &w, t1 - t0, coarse[m].n);
+        if (m == SS_FRICTION_Q_LUGRE) {
+            /* and stick steps once the contact has stopped ringing, rows every stick_n steps */
+            static const ss_actuator_coarse_q_t stick = SS_BENCH_Q_LUGRE_STICK;
+            coarse_bench(link, names[m], &cfg, &stick, &w, t1 - t0, stick.stick_n);
+        }
     }
     ss_cortex_m_exit(0);
     return 0;

@@ -159,6 +159,10 @@ class ActuatorCoarse(C.Structure):
         ("v_ring_max_m_per_s", C.c_float),
         ("v_rel_mid_max_m_per_s", C.c_float),
         ("v_ring_mid_max_m_per_s", C.c_float),
+        ("stick_n", C.c_uint32),
+        ("stick_dt_s", C.c_float),
+        ("stick_omega_per_s", C.c_float),
+        ("stick_phi", C.c_float * 16),
     ]
 
 
@@ -237,6 +241,17 @@ class ActuatorCoarseQ(C.Structure):
         ("ring_mid_max_q40", C.c_int32),
         ("compliance_q56", C.c_int32),
         ("pad", C.c_int32),
+        ("stick_n", C.c_uint32),
+        ("stick_h_q40", C.c_int32),
+        ("stick_inv_h_q47", C.c_int32),
+        ("stick_omega_q47", C.c_int32),
+        ("stick_inv_omega_q40", C.c_int32),
+        ("stick_lag_q30", C.c_int32),
+        ("stick_v_rel_max_q28", C.c_int32),
+        ("stick_ring_max_q40", C.c_int32),
+        ("stick_force_max_q24", C.c_int32),
+        ("stick_phi_shift", C.c_int32),
+        ("stick_phi_q", C.c_int32 * 16),
     ]
 
 
@@ -386,6 +401,14 @@ _proto(
     C.POINTER(C.c_char_p),
 )
 _proto(
+    "ss_actuator_coarse_stick_f32",
+    C.c_int,
+    C.POINTER(ActuatorConfig),
+    C.c_uint32,
+    C.POINTER(ActuatorCoarse),
+    C.POINTER(C.c_char_p),
+)
+_proto(
     "ss_actuator_run_coarse_f32",
     C.c_int,
     C.POINTER(ActuatorConfig),
@@ -446,6 +469,14 @@ _proto(
     C.c_uint32,
     C.POINTER(ActuatorTraceQ),
     C.POINTER(C.c_uint32),
+)
+_proto(
+    "ss_actuator_coarse_stick_to_q",
+    C.c_int,
+    C.POINTER(ActuatorConfig),
+    C.c_uint32,
+    C.POINTER(ActuatorCoarseQ),
+    C.POINTER(C.c_char_p),
 )
 _proto(
     "ss_actuator_coarse_to_q",
@@ -749,6 +780,15 @@ def _coarse(make, struct, cfg: ActuatorConfig, n: int):
     return co
 
 
+def _stick(make, cfg: ActuatorConfig, co, stick_steps: int) -> None:
+    """Turn co's stick steps on (make: ss_actuator_coarse_stick_f32, or
+    ss_actuator_coarse_stick_to_q for the q family), or a NativeError naming the bad field."""
+    bad = C.c_char_p()
+    status = make(C.byref(cfg), stick_steps, C.byref(co), C.byref(bad))
+    if status != SS_OK:
+        raise NativeError(status, f"stick steps ({(bad.value or b'').decode()})")
+
+
 def run_f32_coarse(
     cfg: ActuatorConfig,
     wave: WaveformConfig,
@@ -757,11 +797,15 @@ def run_f32_coarse(
     coarse_steps: int,
     x0_m: float = 0.0,
     heat0_j: float = 0.0,
+    stick_steps: int = 0,
 ) -> tuple[dict[str, np.ndarray], float, int]:
     """run_f32 with coarse steps of coarse_steps steps where the contact sticks
-    (ss_actuator_run_coarse_f32; LuGre only). Returns run_f32's columns and heat, and the steps the
-    model took."""
+    (ss_actuator_run_coarse_f32; LuGre and LS), and stick steps of stick_steps where it has
+    stopped ringing (ss_actuator_coarse_stick_f32; LuGre; 0: none). Returns run_f32's columns and
+    heat, and the steps the model took."""
     co = _coarse(lib.ss_actuator_coarse_init_f32, ActuatorCoarse, cfg, coarse_steps)
+    if stick_steps:
+        _stick(lib.ss_actuator_coarse_stick_f32, cfg, co, stick_steps)
     r = _RunF32(cfg, wave, n_steps, decimation, x0_m, heat0_j)
     written, taken = C.c_uint32(0), C.c_uint32(0)
     status = lib.ss_actuator_run_coarse_f32(
@@ -822,21 +866,34 @@ def run_q(
 
 
 def run_q_coarse(
-    cfg: ActuatorConfig, wave: WaveformConfig, n_steps: int, decimation: int, coarse_steps: int
+    cfg: ActuatorConfig,
+    wave: WaveformConfig,
+    n_steps: int,
+    decimation: int,
+    coarse_steps: int,
+    stick_steps: int = 0,
 ) -> tuple[dict[str, np.ndarray], int]:
     """run_q with coarse steps of coarse_steps steps where the contact sticks
-    (ss_actuator_run_coarse_q, from ss_actuator_coarse_to_q; LuGre only): the columns, and the
-    steps the model took."""
-    return _run_q(cfg, wave, n_steps, decimation, coarse_steps)
+    (ss_actuator_run_coarse_q, from ss_actuator_coarse_to_q; LuGre and LS), and stick steps of
+    stick_steps (ss_actuator_coarse_stick_to_q; LuGre; 0: none): the columns, and the steps the
+    model took."""
+    return _run_q(cfg, wave, n_steps, decimation, coarse_steps, stick_steps)
 
 
 def _run_q(
-    cfg: ActuatorConfig, wave: WaveformConfig, n_steps: int, decimation: int, coarse_steps: int
+    cfg: ActuatorConfig,
+    wave: WaveformConfig,
+    n_steps: int,
+    decimation: int,
+    coarse_steps: int,
+    stick_steps: int = 0,
 ) -> tuple[dict[str, np.ndarray], int]:
     cq, wq = to_q(cfg, wave)
     co = None
     if coarse_steps > 1:
         co = _coarse(lib.ss_actuator_coarse_to_q, ActuatorCoarseQ, cfg, coarse_steps)
+    if stick_steps:
+        _stick(lib.ss_actuator_coarse_stick_to_q, cfg, co, stick_steps)
     rows = n_steps // decimation
     cols = {k: np.zeros(rows + 1, dt) for k, dt in TRACE_Q_COLUMNS.items()}
     st, wst = new_actuator_state_q(), new_waveform_state_q()

@@ -490,6 +490,7 @@ def simulate(
     coarse_steps: int = 1,
     gms_decay: float = GMS_DECAY,
     gms_stiffness_ratio: float = GMS_STIFFNESS_RATIO,
+    stick_steps: int = 0,
 ) -> SimResult:
     """Simulate the actuator under a sawtooth, or under sampled drive voltages (drive_v at
     drive_interval_s, linearly interpolated), with the C model; effects switch on optional
@@ -503,9 +504,16 @@ def simulate(
     n dt at most 4.3 us) takes up to that many steps as one where the contact sticks and
     the rod is quiet, 2 where the contact rings (docs/model.md, "Coarse steps while the contact
     sticks"; issue 17's 0.1 % holds with LuGre's 8 at 1 us and LS's 4 at 1.5 us): the same rows,
-    fewer model steps (meta["model_steps"])."""
+    fewer model steps (meta["model_steps"]). stick_steps > 0 (LuGre, with coarse_steps > 1; no
+    effect but the load and the sensor's scale) also takes that many as one where the contact has
+    stopped ringing, by the stuck contact's linear flow (docs/model.md, "Stick steps"); a stick step
+    never crosses a row either, so it needs decimation of stick_steps or a multiple."""
     if not isinstance(coarse_steps, int) or coarse_steps < 1:
         raise ValueError(f"coarse_steps must be an integer >= 1, got {coarse_steps!r}")
+    if not isinstance(stick_steps, int) or stick_steps < 0:
+        raise ValueError(f"stick_steps must be an integer >= 0, got {stick_steps!r}")
+    if stick_steps and coarse_steps < 2:
+        raise ValueError("stick_steps: with coarse_steps > 1 (a stick step is a coarse run's)")
     if coarse_steps > 1 and variant == "q" and drive_v is not None:
         raise ValueError(
             "coarse_steps: the q variant's sawtooth only (a sampled drive bends each step)"
@@ -527,7 +535,9 @@ def simulate(
         gms_stiffness_ratio,
     )
     if variant == "q" and coarse_steps > 1:
-        cols, taken = N.run_q_coarse(s.cfg, s.wave_cfg, s.n_steps, decimation, coarse_steps)
+        cols, taken = N.run_q_coarse(
+            s.cfg, s.wave_cfg, s.n_steps, decimation, coarse_steps, stick_steps
+        )
         r = _result(s, _si_from_q(cols, model), 0.0)
         r.meta["model_steps"] = taken
         return r
@@ -539,7 +549,7 @@ def simulate(
         return _result(s, _si_from_q(cols, model), 0.0)
     if coarse_steps > 1:
         cols, heat_end, taken = N.run_f32_coarse(
-            s.cfg, s.wave_cfg, s.n_steps, decimation, coarse_steps, x0_m, heat0_j
+            s.cfg, s.wave_cfg, s.n_steps, decimation, coarse_steps, x0_m, heat0_j, stick_steps
         )
         r = _result(s, _f64(cols), heat_end)
         r.meta["model_steps"] = taken

@@ -130,6 +130,12 @@ typedef struct {
     float v_ring_max_m_per_s;     /* the rod is quiet: |v_rod - the piezo's ideal rate| below this */
     float v_rel_mid_max_m_per_s;  /* a step of 2 dt: the contact rings, |v_rod - v_slider| below this */
     float v_ring_mid_max_m_per_s; /* ... and the rod's ring below this */
+    uint32_t stick_n;             /* steps of dt in a stick step, 0: none (ss_actuator_coarse_stick_f32) */
+    float stick_dt_s;             /* stick_n dt */
+    float stick_omega_per_s;      /* the rod's rate on the stack, sqrt(k / M_R) */
+    float stick_phi[16];          /* the stuck contact's linear flow over stick_n dt, row-major, on the
+                                   * deviation from the ramp's steady state of (e, v_rod / omega, z,
+                                   * v_slider / omega): e the rod off the piezo's strain, z the bristle */
 } ss_actuator_coarse_f32_t;
 
 /* The coarse steps for n steps of cfg's dt, with the bounds above (chosen on Table I: LuGre at
@@ -145,6 +151,31 @@ ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uin
  * what ss_actuator_coarse_init_f32 does where the flows cannot be taken, and the q converter for a
  * stack too soft for the held form. */
 void ss_actuator_coarse_kicked_bounds_f32(ss_actuator_coarse_f32_t *co, int32_t friction_model);
+
+/* Stick steps (LuGre; docs/model.md "Stick steps: the stuck contact's linear flow"): once the
+ * contact has stopped ringing, a longer step than the coarse one. There the bristle deflects as the
+ * relative displacement does (dz/dt = v - sigma0 |v| z / g(v) ~ v while sigma0 |z| << g: the
+ * force is far below Fc), so rod, bristle and slider are a linear system: the rod on the stack's
+ * spring and damper, the slider on the bristle's spring (sigma0) and damping (sigma1 + sigma2), the
+ * anchor ramping with the straight drive and the load constant. Its exact flow over stick_n dt is
+ * one 4 x 4 matrix, made once (ss_actuator_coarse_stick_f32); the step is that flow about the
+ * ramp's steady state, then LuGre's force at the state it ends in. It is taken where stick_n steps
+ * fit before the run's next row (rows every stick_n steps or a multiple), the drive is straight
+ * over them, |v_rel| and the rod's ring are within the bounds below and |F| < 0.1 Fc. On the
+ * paper's drive at 1 us with n = 8 and stick_n = 40: 0.221 model steps a microsecond against the
+ * coarse steps' 0.275 (rows every 8; 0.292 on the same rows), worst cycle over issue 17's drive
+ * matrix 0.085 % (bench/step_study.py --coarse 8 --stick 40). */
+#define SS_COARSE_STICK_V_REL_MAX_M_PER_S 5e-4f
+#define SS_COARSE_STICK_V_RING_MAX_M_PER_S 5e-5f
+#define SS_COARSE_STICK_FORCE_SHARE 0.1f
+
+/* Turn co's stick steps on with stick_n steps of dt each ([2, 256], stick_n dt <= 1 ms), or off with
+ * stick_n 0, for cfg (the config co was made for). SS_ERR_RANGE with bad_field "friction_model" for
+ * a law other than LuGre, "coarse_stick_n" for stick_n out of range, or the first effect the
+ * linear flow does not hold (every one but the load and the sensor's scale, and an asymmetry):
+ * e.g. "effects.slew_v_per_s"; co unchanged on an error. */
+ss_status_t ss_actuator_coarse_stick_f32(const ss_actuator_config_f32_t *cfg, uint32_t stick_n,
+                                         ss_actuator_coarse_f32_t *co, const char **bad_field);
 
 /* Advance by one step of cfg's dt, or by m = min(co->n, max_steps) >= 2 of them in one coarse step
  * where the drive is straight over them (ss_waveform_straight_f32), the contact sticks and the rod

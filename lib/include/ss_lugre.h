@@ -33,6 +33,10 @@ void ss_lugre_advance_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f3
 float ss_lugre_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_lugre_state_f32_t *st,
                             float v_m_per_s, ss_friction_slopes_f32_t *slopes);
 
+/* Set st's force and dz/dt at relative velocity v_m_per_s from its z, and return the force: what a
+ * step ends with, for a z the caller set (the actuator's stick step, ss_actuator.h). */
+float ss_lugre_settle_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, float v_m_per_s);
+
 /* Apply n displacement increments dx_m[i] (each taken in dt_s) and write each force to force_n[i]. */
 ss_status_t ss_lugre_run_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, const float *dx_m,
                              uint32_t n, float dt_s, float *force_n);

@@ -31,6 +31,10 @@ void ss_lugre_advance_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *s
 int32_t ss_lugre_force_at_q(const ss_friction_config_q_t *cfg, const ss_lugre_state_q_t *st, int32_t v_q28,
                             ss_friction_slopes_q_t *slopes);
 
+/* Set st's force and dz/dt at relative velocity v (m/s at 2^-28) from its z, and return the force
+ * (ss_lugre_settle_f32). */
+int32_t ss_lugre_settle_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, int32_t v_q28);
+
 /* n increments dx_q40[i], each in dt_q40; forces into force_q24[i]. */
 ss_status_t ss_lugre_run_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, const int32_t *dx_q40,
                            uint32_t n, int32_t dt_q40, int32_t *force_q24);

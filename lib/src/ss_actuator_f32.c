@@ -676,6 +676,12 @@ ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uin
     }
     rod_flow(cfg, dt, co->phi);
     rod_flow(cfg, 2.0f * cfg->dt_s, co->phi_mid);
+    co->stick_n = 0u; /* off until ss_actuator_coarse_stick_f32 */
+    co->stick_dt_s = 0.0f;
+    co->stick_omega_per_s = 0.0f;
+    for (int i = 0; i < 16; ++i) {
+        co->stick_phi[i] = 0.0f;
+    }
     return SS_OK;
 }
 
@@ -838,6 +844,89 @@ SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg
     return SS_OK;
 }
 
+/* May a stick step be taken (ss_actuator.h, SS_COARSE_STICK_*)? co's stick steps on, they fit
+ * before the row, the contact and the rod are quiet, the force is far below Fc (the bristle's
+ * relaxation, sigma0 |v| z / g, is then negligible against v) and the drive is straight. */
+SS_FORCE_INLINE int stick_allowed(const ss_actuator_config_f32_t *cfg, const ss_actuator_coarse_f32_t *co,
+                                  const ss_actuator_state_f32_t *st, const ss_waveform_config_f32_t *wave,
+                                  const ss_waveform_state_f32_t *wst, uint32_t max_steps)
+{
+    if (max_steps < co->stick_n ||
+        !(fabsf(st->v_rod_m_per_s - st->v_slider_m_per_s) < SS_COARSE_STICK_V_REL_MAX_M_PER_S) ||
+        !(fabsf(st->force_n) < SS_COARSE_STICK_FORCE_SHARE * cfg->friction.fc_n)) {
+        return 0;
+    }
+    const float ring = fabsf(st->v_rod_m_per_s - cfg->piezo_gain_m_per_v * ss_waveform_slope_f32(wave, wst));
+    return ring < SS_COARSE_STICK_V_RING_MAX_M_PER_S && ss_waveform_straight_f32(wave, wst, co->stick_n);
+}
+
+/* A stick step to drive_v at its end: the linear flow (co->stick_phi) of the deviation from the
+ * steady state that the ramp b and the load L hold (rod at (L - c b) / k off the strain, bristle
+ * at -L / sigma0, both bodies at b), the slider's travel that of the rod less the bristle's, and
+ * LuGre's force and dz/dt at the state it ends in. */
+SS_FORCE_INLINE ss_status_t stick_step(const ss_actuator_config_f32_t *cfg,
+                                       const ss_actuator_coarse_f32_t *co, ss_actuator_state_f32_t *st,
+                                       float drive_v)
+{
+    if (!isfinite(drive_v)) {
+        return SS_ERR_NONFINITE;
+    }
+    const float inv_h = 1.0f / co->stick_dt_s;
+    const float w = co->stick_omega_per_s;
+    const float inv_w = 1.0f / w;
+    const ss_friction_config_f32_t *f = &cfg->friction;
+    const float load = cfg->effects.load_n;
+    const float x_p0 = st->x_p_m;
+    const float x_rod0 = st->x_rod_m;
+    const float z0 = st->fr.lugre.z_m;
+    const float x_p1 =
+        ss_effects_drive_inline_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, co->stick_dt_s);
+    const float b = (x_p1 - x_p0) * inv_h;
+    const float e_ss = (load - cfg->piezo_damping_kg_per_s * b) / cfg->piezo_stiffness_n_per_m;
+    const float z_ss = -load / f->sigma0_n_per_m;
+    const float u0[4] = {x_rod0 - x_p0 - e_ss, (st->v_rod_m_per_s - b) * inv_w, z0 - z_ss,
+                         (st->v_slider_m_per_s - b) * inv_w};
+    float u1[4];
+    for (size_t i = 0; i < 4u; ++i) {
+        const float *row = &co->stick_phi[4u * i];
+        u1[i] = row[0] * u0[0] + row[1] * u0[1] + row[2] * u0[2] + row[3] * u0[3];
+    }
+    st->x_rod_m = x_p1 + e_ss + u1[0];
+    st->v_rod_m_per_s = b + u1[1] * w;
+    const float z1 = z_ss + u1[2];
+    position_add(&st->x_slider, (st->x_rod_m - x_rod0) - (z1 - z0));
+    st->v_slider_m_per_s = b + u1[3] * w;
+    st->x_p_m = x_p1;
+    st->drive_v = drive_v;
+    st->fr.lugre.z_m = z1;
+    st->force_n = ss_lugre_settle_f32(f, &st->fr.lugre, st->v_rod_m_per_s - st->v_slider_m_per_s);
+    st->steps++;
+    return SS_OK;
+}
+
+/* A stick step where one may be taken: the steps of dt it took (0: none, or an error in *status).
+ * Out of line: a few steps in a period take it, and inline it slowed LS's coarse loop on the M4F
+ * (166 -> 168 instructions a microsecond). */
+SS_NOINLINE uint32_t stick_try(const ss_actuator_config_f32_t *cfg, const ss_actuator_coarse_f32_t *co,
+                               ss_actuator_state_f32_t *st, const ss_waveform_config_f32_t *wave,
+                               ss_waveform_state_f32_t *wst, uint32_t max_steps, ss_status_t *status)
+{
+    if (!stick_allowed(cfg, co, st, wave, wst, max_steps)) {
+        return 0u;
+    }
+    ss_waveform_state_f32_t w = *wst; /* committed with the step */
+    for (uint32_t k = 0; k < co->stick_n; ++k) {
+        ss_waveform_advance_f32(&w);
+    }
+    *status = stick_step(cfg, co, st, ss_waveform_value_f32(wave, &w));
+    if (*status != SS_OK) {
+        return 0u;
+    }
+    *wst = w;
+    st->steps += co->stick_n - 1u; /* the step counted one */
+    return co->stick_n;
+}
+
 /* ss_actuator_coarse_step_f32's body, inlined into the coarse run's loop. A coarse step shorter
  * than co->n (up to a row, or the run's end) and than 2 makes its flow here: such steps come once
  * after each stretch of finer steps, so that the next coarse step starts on the grid of rows
@@ -845,13 +934,21 @@ SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg
 SS_FORCE_INLINE ss_status_t coarse_step(const ss_actuator_config_f32_t *cfg,
                                         const ss_actuator_coarse_f32_t *co, ss_actuator_state_f32_t *st,
                                         const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
-                                        uint32_t max_steps, uint32_t *taken)
+                                        uint32_t max_steps, uint32_t *taken, int sticks)
 {
     const uint32_t m = coarse_allowed(cfg, co, st, wave, wst, max_steps);
     if (m == 0u) {
         const ss_status_t status = wave_step(cfg, st, wave, wst);
         *taken = (status == SS_OK) ? 1u : 0u;
         return status;
+    }
+    /* a stick step only where a whole coarse step may be taken: its bounds are within those */
+    if (sticks && m == co->n) {
+        ss_status_t status = SS_OK;
+        *taken = stick_try(cfg, co, st, wave, wst, max_steps, &status);
+        if (*taken != 0u || status != SS_OK) {
+            return status;
+        }
     }
     ss_waveform_state_f32_t w = *wst; /* committed with the step */
     for (uint32_t k = 0; k < m; ++k) {
@@ -888,7 +985,9 @@ ss_status_t ss_actuator_coarse_step_f32(const ss_actuator_config_f32_t *cfg,
         return SS_ERR_NULL;
     }
     *taken = 0u;
-    return (max_steps == 0u) ? SS_OK : coarse_step(cfg, co, st, wave, wst, max_steps, taken);
+    return (max_steps == 0u)
+               ? SS_OK
+               : coarse_step(cfg, co, st, wave, wst, max_steps, taken, co != NULL && co->stick_n != 0u);
 }
 
 void ss_actuator_place_slider_f32(ss_actuator_state_f32_t *st, float x_m)
@@ -1051,6 +1150,33 @@ ss_status_t ss_actuator_run_f32(const ss_actuator_config_f32_t *cfg, ss_actuator
     return job.status;
 }
 
+/* ss_actuator_run_coarse_f32's loop, made twice: with stick steps (sticks 1) and without, so that
+ * a run without them keeps the loop it had (the test in it cost 2 instructions a microsecond on
+ * the M4F, LS 166 -> 168) */
+SS_FORCE_INLINE ss_status_t coarse_loop(const ss_actuator_config_f32_t *cfg,
+                                        const ss_actuator_coarse_f32_t *co, ss_actuator_state_f32_t *st,
+                                        const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
+                                        ss_actuator_run_job_f32_t *job, uint32_t *steps_out, int sticks)
+{
+    lane_t lane;
+    uint32_t model_steps = 0u;
+    if (lane_start(&lane, job)) {
+        uint32_t taken;
+        do {
+            job->status = coarse_step(cfg, co, st, wave, wst,
+                                      (lane.to_row < lane.left) ? lane.to_row : lane.left, &taken, sticks);
+            if (job->status != SS_OK) {
+                break;
+            }
+            ++model_steps;
+        } while (lane_after_steps(&lane, taken));
+    }
+    if (steps_out != NULL) {
+        *steps_out = model_steps;
+    }
+    return job->status;
+}
+
 ss_status_t ss_actuator_run_coarse_f32(const ss_actuator_config_f32_t *cfg,
                                        const ss_actuator_coarse_f32_t *co, ss_actuator_state_f32_t *st,
                                        const ss_waveform_config_f32_t *wave, ss_waveform_state_f32_t *wst,
@@ -1062,24 +1188,11 @@ ss_status_t ss_actuator_run_coarse_f32(const ss_actuator_config_f32_t *cfg,
     }
     /* ss_actuator_run_f32's lane: its checks and rows */
     ss_actuator_run_job_f32_t job = {cfg, st, wave, wst, n_steps, decimation, trace, 0u, SS_OK};
-    lane_t lane;
-    uint32_t model_steps = 0u;
-    if (lane_start(&lane, &job)) {
-        uint32_t taken;
-        do {
-            job.status = coarse_step(cfg, co, st, wave, wst,
-                                     (lane.to_row < lane.left) ? lane.to_row : lane.left, &taken);
-            if (job.status != SS_OK) {
-                break;
-            }
-            ++model_steps;
-        } while (lane_after_steps(&lane, taken));
-    }
+    const ss_status_t status = (co != NULL && co->stick_n != 0u)
+                                   ? coarse_loop(cfg, co, st, wave, wst, &job, steps_out, 1)
+                                   : coarse_loop(cfg, co, st, wave, wst, &job, steps_out, 0);
     *rows_out = job.rows;
-    if (steps_out != NULL) {
-        *steps_out = model_steps;
-    }
-    return job.status;
+    return status;
 }
 
 /* Simulations a batch steps side by side (ss_actuator_run_many_f32). */

@@ -698,6 +698,87 @@ SS_FORCE_INLINE uint32_t coarse_allowed(const ss_actuator_config_q_t *cfg, const
                : 0u;
 }
 
+/* May a stick step be taken (as stick_allowed of ss_actuator_f32.c)? co's stick steps on and fit
+ * before the row, the contact quiet and its force far below Fc, the drive straight and the rod
+ * quiet over them; *w_end and *drive_end get the player and the drive at the step's end. */
+SS_FORCE_INLINE int stick_allowed_q(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
+                                    const ss_actuator_state_q_t *st, const ss_waveform_config_q_t *wave,
+                                    const ss_waveform_state_q_t *wst, uint32_t max_steps,
+                                    ss_waveform_state_q_t *w_end, int32_t *drive_end)
+{
+    return max_steps >= co->stick_n &&
+           ss_abs64((int64_t)st->v_rod_q28 - st->v_slider_q28) < co->stick_v_rel_max_q28 &&
+           ss_abs64(st->force_q24) < co->stick_force_max_q24 &&
+           ss_waveform_straight_q(wave, wst, co->stick_n) &&
+           quiet_over(cfg, st, wave, wst, co->stick_n, co->stick_h_q40, co->stick_ring_max_q40, w_end,
+                      drive_end);
+}
+
+/* A stick step to drive_q16 at its end, as stick_step of ss_actuator_f32.c: the linear flow of the
+ * deviation from the ramp's steady state (rod (L - c b) / k off the strain, bristle -L / sigma0,
+ * both bodies at b), velocities over the rod's rate w as lengths (m at 2^-40, as the flow's
+ * entries), and LuGre's force and dz/dt at the end. */
+SS_FORCE_INLINE void stick_step_q(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
+                                  ss_actuator_state_q_t *st, int32_t drive_q16)
+{
+    const int32_t x_p0 = st->x_p_q40;
+    const int32_t x_rod0 = st->x_rod_q40;
+    const int32_t z0 = st->fr.lugre.z_q40;
+    const int32_t x_p1 = piezo_strain_q40(cfg, st, drive_q16, cfg->effects.slew_q24);
+    const int32_t dxp = ss_sat32((int64_t)x_p1 - x_p0);
+    const int64_t b = ss_velocity_q28(dxp, co->stick_inv_h_q47); /* m/s at 2^-28 */
+    const int64_t load = cfg->effects.load_q24;
+    /* (L - c b) / k: N at 2^-24 times m/N at 2^-56 is m at 2^-80; c b / k = (c / (k h)) dxp */
+    const int64_t e_ss = ss_shr_round(ss_mul_s32_s64((int32_t)load, co->compliance_q56), 40) -
+                         ss_shr_round(ss_mul_s32_s64(dxp, co->stick_lag_q30), 30);
+    /* -L / sigma0: N at 2^-24 times m/N at 2^-47 is m at 2^-71 */
+    const int64_t z_ss = -ss_shr_round(ss_mul_s32_s64((int32_t)load, cfg->friction.inv_sigma0_q47), 31);
+    /* (v - b) / w: m/s at 2^-28 times s at 2^-40, to m at 2^-40 */
+    const int32_t u0[4] = {
+        ss_sat32((int64_t)x_rod0 - x_p0 - e_ss),
+        ss_sat32(ss_shr_round(ss_mul_s32_s64(ss_sat32(st->v_rod_q28 - b), co->stick_inv_omega_q40), 28)),
+        ss_sat32((int64_t)z0 - z_ss),
+        ss_sat32(ss_shr_round(ss_mul_s32_s64(ss_sat32(st->v_slider_q28 - b), co->stick_inv_omega_q40), 28)),
+    };
+    int32_t u1[4];
+    for (size_t i = 0; i < 4u; ++i) {
+        const int32_t *row = &co->stick_phi_q[4u * i];
+        /* |entries| <= 2^30: each product below 2^61, their sum below 2^63 */
+        const int64_t acc = ss_mul_s32_s64(row[0], u0[0]) + ss_mul_s32_s64(row[1], u0[1]) +
+                            ss_mul_s32_s64(row[2], u0[2]) + ss_mul_s32_s64(row[3], u0[3]);
+        u1[i] = ss_sat32(ss_shr_round(acc, co->stick_phi_shift));
+    }
+    const int32_t x_rod1 = ss_sat32((int64_t)x_p1 + e_ss + u1[0]);
+    const int32_t z1 = ss_sat32(z_ss + u1[2]);
+    st->x_rod_q40 = x_rod1;
+    st->v_rod_q28 = ss_sat32(b + ss_velocity_q28(u1[1], co->stick_omega_q47));
+    st->x_slider_q40 += ((int64_t)x_rod1 - x_rod0) - ((int64_t)z1 - z0);
+    st->v_slider_q28 = ss_sat32(b + ss_velocity_q28(u1[3], co->stick_omega_q47));
+    st->x_p_q40 = x_p1;
+    st->drive_q16 = drive_q16;
+    st->fr.lugre.z_q40 = z1;
+    st->force_q24 =
+        ss_lugre_settle_q(&cfg->friction, &st->fr.lugre, ss_sat32((int64_t)st->v_rod_q28 - st->v_slider_q28));
+    st->steps++;
+}
+
+/* A stick step where one may be taken (the player then at its end): whether it was. Out of line: a
+ * few steps in a period take it, and inline it slowed the coarse loop of both laws. */
+SS_NOINLINE int stick_try_q(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
+                            ss_actuator_state_q_t *st, const ss_waveform_config_q_t *wave,
+                            ss_waveform_state_q_t *wst, uint32_t max_steps)
+{
+    ss_waveform_state_q_t w_end;
+    int32_t drive_end = 0;
+    if (!stick_allowed_q(cfg, co, st, wave, wst, max_steps, &w_end, &drive_end)) {
+        return 0;
+    }
+    stick_step_q(cfg, co, st, drive_end);
+    *wst = w_end;
+    st->steps += co->stick_n - 1u; /* the step counted one */
+    return 1;
+}
+
 ss_status_t ss_actuator_run_coarse_q(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
                                      ss_actuator_state_q_t *st, const ss_waveform_config_q_t *wave,
                                      ss_waveform_state_q_t *wst, uint32_t n_steps, uint32_t decimation,
@@ -718,18 +799,23 @@ ss_status_t ss_actuator_run_coarse_q(const ss_actuator_config_q_t *cfg, const ss
         ss_waveform_state_q_t w_end;
         int32_t drive_end = 0;
         uint32_t taken = 1u;
-        const uint32_t m =
-            coarse_allowed(cfg, co, st, wave, wst, (to_row < left) ? to_row : left, &w_end, &drive_end);
+        const uint32_t max_steps = (to_row < left) ? to_row : left;
+        const uint32_t m = coarse_allowed(cfg, co, st, wave, wst, max_steps, &w_end, &drive_end);
         if (m != 0u) {
-            const ss_actuator_config_q_t *c = (m == co->n) ? &co->cfg : &co->cfg_mid;
-            const int32_t compliance = (cfg->effects.base_kick_q40 == 0) ? co->compliance_q56 : 0;
-            status = (cfg->friction_model == SS_FRICTION_Q_LUGRE)
-                         ? step_held(c, st, drive_end, 0, 0, compliance, 0)
-                         : step_held_ls(c, st, drive_end, compliance);
-            if (status == SS_OK) {
-                *wst = w_end;
-                st->steps += m - 1u; /* step counted one */
-                taken = m;
+            /* a stick step only where a whole coarse step may be taken: its bounds are within those */
+            if (m == co->n && co->stick_n != 0u && stick_try_q(cfg, co, st, wave, wst, max_steps)) {
+                taken = co->stick_n;
+            } else {
+                const ss_actuator_config_q_t *c = (m == co->n) ? &co->cfg : &co->cfg_mid;
+                const int32_t compliance = (cfg->effects.base_kick_q40 == 0) ? co->compliance_q56 : 0;
+                status = (cfg->friction_model == SS_FRICTION_Q_LUGRE)
+                             ? step_held(c, st, drive_end, 0, 0, compliance, 0)
+                             : step_held_ls(c, st, drive_end, compliance);
+                if (status == SS_OK) {
+                    *wst = w_end;
+                    st->steps += m - 1u; /* step counted one */
+                    taken = m;
+                }
             }
         } else {
             status = ss_actuator_wave_step_q(cfg, st, wave, wst);

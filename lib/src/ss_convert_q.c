@@ -321,6 +321,83 @@ ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t
     out->ring_mid_max_q40 =
         (int32_t)floor((double)co.v_ring_mid_max_m_per_s * (double)at_n.dt_s * length + 0.5);
     out->pad = 0;
+    return ss_actuator_coarse_stick_to_q(in, 0u, out, bad);
+}
+
+/* round(v), or 0 where it does not fit an int32 (a NaN neither) */
+static int fits_i32(double v, int32_t *out)
+{
+    const double r = floor(v + 0.5);
+    if (!(r > -2147483648.0 && r < 2147483647.0)) {
+        return 0;
+    }
+    *out = (int32_t)r;
+    return 1;
+}
+
+ss_status_t ss_actuator_coarse_stick_to_q(const ss_actuator_config_f32_t *in, uint32_t stick_n,
+                                          ss_actuator_coarse_q_t *out, const char **bad_field)
+{
+    const char *dummy = "";
+    const char **bad = (bad_field != NULL) ? bad_field : &dummy;
+    if (out == NULL) {
+        *bad = "out";
+        return SS_ERR_NULL;
+    }
+    ss_actuator_coarse_f32_t co;
+    ss_status_t status = ss_actuator_coarse_init_f32(in, (out->n >= 2u) ? out->n : 2u, &co, bad);
+    if (status == SS_OK) {
+        status = ss_actuator_coarse_stick_f32(in, stick_n, &co, bad);
+    }
+    if (status != SS_OK) {
+        return status;
+    }
+    ss_actuator_coarse_q_t q = *out;
+    q.stick_n = 0u;
+    q.stick_h_q40 = q.stick_inv_h_q47 = q.stick_omega_q47 = q.stick_inv_omega_q40 = 0;
+    q.stick_lag_q30 = q.stick_v_rel_max_q28 = q.stick_ring_max_q40 = q.stick_force_max_q24 = 0;
+    q.stick_phi_shift = 0;
+    for (int i = 0; i < 16; ++i) {
+        q.stick_phi_q[i] = 0;
+    }
+    if (stick_n != 0u) {
+        const double h = (double)stick_n * (double)in->dt_s;
+        const double w = (double)co.stick_omega_per_s;
+        double phi_max = 0.0;
+        for (int i = 0; i < 16; ++i) {
+            phi_max = fmax(phi_max, fabs((double)co.stick_phi[i]));
+        }
+        int shift = 30; /* |entries| <= 2^30: four products of 32-bit lengths sum within 2^63 */
+        while (shift > 0 && phi_max * ldexp(1.0, shift) > ldexp(1.0, 30)) {
+            --shift;
+        }
+        int ok = out->compliance_q56 != 0; /* the steady state's rod offset is load / k */
+        ok = ok && fits_i32(h * SS_QF_ONE(SS_QF_TIME), &q.stick_h_q40);
+        /* 1/s at 2^-7, as the config's inv_dt_q47: a length at 2^-40 times it is a velocity at 2^-47 */
+        ok = ok && fits_i32(ldexp(1.0, 7) / h, &q.stick_inv_h_q47);
+        ok = ok && fits_i32(w * ldexp(1.0, 7), &q.stick_omega_q47);
+        ok = ok && fits_i32(SS_QF_ONE(SS_QF_TIME) / w, &q.stick_inv_omega_q40);
+        ok = ok && fits_i32((double)in->piezo_damping_kg_per_s / ((double)in->piezo_stiffness_n_per_m * h) *
+                                SS_QF_ONE(SS_QF_RATIO),
+                            &q.stick_lag_q30);
+        ok = ok && fits_i32((double)SS_COARSE_STICK_V_REL_MAX_M_PER_S * SS_QF_ONE(SS_QF_VELOCITY),
+                            &q.stick_v_rel_max_q28);
+        ok = ok && fits_i32((double)SS_COARSE_STICK_V_RING_MAX_M_PER_S * h * SS_QF_ONE(SS_QF_LENGTH),
+                            &q.stick_ring_max_q40);
+        ok = ok && fits_i32((double)SS_COARSE_STICK_FORCE_SHARE * (double)in->friction.fc_n *
+                                SS_QF_ONE(SS_QF_FORCE),
+                            &q.stick_force_max_q24);
+        for (int i = 0; ok && i < 16; ++i) {
+            ok = fits_i32((double)co.stick_phi[i] * ldexp(1.0, shift), &q.stick_phi_q[i]);
+        }
+        if (!ok || shift < 16) {
+            *bad = "coarse_stick_n";
+            return SS_ERR_RANGE;
+        }
+        q.stick_phi_shift = shift;
+        q.stick_n = stick_n;
+    }
+    *out = q;
     return SS_OK;
 }
 

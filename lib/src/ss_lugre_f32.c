@@ -113,6 +113,15 @@ float ss_lugre_force_at_f32(const ss_friction_config_f32_t *cfg, const ss_lugre_
     return force_end(cfg, st, v_m_per_s, &l, slopes);
 }
 
+float ss_lugre_settle_f32(const ss_friction_config_f32_t *cfg, ss_lugre_state_f32_t *st, float v_m_per_s)
+{
+    ss_lugre_level_f32_t l;
+    force_begin(cfg, v_m_per_s, 0, &l);
+    st->zdot_m_per_s = v_m_per_s - cfg->sigma0_n_per_m * fabsf(v_m_per_s) * st->z_m / l.g_n;
+    st->force_n = force_end(cfg, st, v_m_per_s, &l, NULL);
+    return st->force_n;
+}
+
 void ss_lugre_advance_begin_f32(const ss_friction_config_f32_t *cfg, float dx_m, float dt_s,
                                 ss_lugre_slip_f32_t *s)
 {

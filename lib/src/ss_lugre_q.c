@@ -110,6 +110,14 @@ int32_t ss_lugre_force_at_q(const ss_friction_config_q_t *cfg, const ss_lugre_st
     return force_at(cfg, st, v_q28, slopes, &zdot);
 }
 
+int32_t ss_lugre_settle_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, int32_t v_q28)
+{
+    int64_t zdot = 0;
+    st->force_q24 = force_at(cfg, st, v_q28, NULL, &zdot);
+    st->zdot_q28 = ss_sat32(zdot);
+    return st->force_q24;
+}
+
 ss_status_t ss_lugre_run_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *st, const int32_t *dx_q40,
                            uint32_t n, int32_t dt_q40, int32_t *force_q24)
 {

@@ -99,19 +99,25 @@ def test_q_coarse_steps_on_the_target_are_the_hosts(preset):
     cmd = ["qemu-system-arm", "-M", "mps2-an385", "-nographic", "-monitor", "none"]
     cmd += ["-semihosting-config", "enable=on,target=native", "-serial", "stdio", "-kernel"]
     out = subprocess.run([*cmd, str(elf)], capture_output=True, text=True, timeout=120).stdout
-    lines = re.findall(r"bench q (\w+) coarse (\d+): (\d+) model steps .*slider at (-?\d+)\n", out)
-    assert len(lines) == 2, out
+    lines = re.findall(
+        r"bench q (\w+) coarse (\d+)(?: stick (\d+))?: (\d+) model steps .*slider at (-?\d+)\n", out
+    )
+    # LS's and LuGre's coarse steps, and LuGre's with stick steps (rows every stick_n)
+    runs = [(law, stick) for law, _, stick, _, _ in lines]
+    assert runs == [("ls", ""), ("lugre", ""), ("lugre", "40")]
     assert "MODEL ERROR" not in out
-    for law, n, model_steps, slider_q40 in lines:
+    for law, n, stick, model_steps, slider_q40 in lines:
         dt_s, cycles = (1.5e-6, 15) if law == "ls" else (1e-6, 10)  # 20 000 steps of each
+        rows = int(stick or n)
         r = simulate(
             Sawtooth(cycles=cycles),
             model=law,
             dt_s=dt_s,
-            decimation=int(n),
+            decimation=rows,
             variant="q",
             coarse_steps=int(n),
+            stick_steps=int(stick or 0),
         )
-        assert len(r.t_s) - 1 == 20000 // int(n)
+        assert len(r.t_s) - 1 == 20000 // rows
         assert r.meta["model_steps"] == int(model_steps), law
         assert round(r.x_slider_m[-1] * 2.0**40) == int(slider_q40), law
