@@ -28,6 +28,8 @@
         .inv_sigma0_q47 = 14073749, \
         .inv_fs_q48 = 4660338, \
         .sat_length_q40 = 9499780, \
+        .fc_recip_mantissa = 1431655765, \
+        .fc_recip_shift = 56, \
     }, \
     .inv_dt_q47 = 85333304, \
     .effects = { \
@@ -72,6 +74,8 @@
             .inv_sigma0_q47 = 14073749, \
             .inv_fs_q48 = 4660338, \
             .sat_length_q40 = 9499780, \
+            .fc_recip_mantissa = 1431655765, \
+            .fc_recip_shift = 56, \
         }, \
         .inv_dt_q47 = 21333333, \
         .effects = { \
@@ -112,6 +116,8 @@
             .inv_sigma0_q47 = 14073749, \
             .inv_fs_q48 = 4660338, \
             .sat_length_q40 = 9499780, \
+            .fc_recip_mantissa = 1431655765, \
+            .fc_recip_shift = 56, \
         }, \
         .inv_dt_q47 = 42666665, \
         .effects = { \
@@ -176,6 +182,8 @@
             .inv_sigma0_q47 = 14073749, \
             .inv_fs_q48 = 4660338, \
             .sat_length_q40 = 9499780, \
+            .fc_recip_mantissa = 1431655765, \
+            .fc_recip_shift = 56, \
         }, \
         .inv_dt_q47 = 16000000, \
         .effects = { \
@@ -216,6 +224,8 @@
             .inv_sigma0_q47 = 14073749, \
             .inv_fs_q48 = 4660338, \
             .sat_length_q40 = 9499780, \
+            .fc_recip_mantissa = 1431655765, \
+            .fc_recip_shift = 56, \
         }, \
         .inv_dt_q47 = 64000007, \
         .effects = { \
@@ -280,6 +290,8 @@
             .inv_sigma0_q47 = 14073749, \
             .inv_fs_q48 = 4660338, \
             .sat_length_q40 = 9499780, \
+            .fc_recip_mantissa = 1431655765, \
+            .fc_recip_shift = 56, \
         }, \
         .inv_dt_q47 = 16000000, \
         .effects = { \
@@ -320,6 +332,8 @@
             .inv_sigma0_q47 = 14073749, \
             .inv_fs_q48 = 4660338, \
             .sat_length_q40 = 9499780, \
+            .fc_recip_mantissa = 1431655765, \
+            .fc_recip_shift = 56, \
         }, \
         .inv_dt_q47 = 64000007, \
         .effects = { \

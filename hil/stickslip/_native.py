@@ -185,6 +185,8 @@ class FrictionConfigQ(C.Structure):
             "inv_sigma0_q47",
             "inv_fs_q48",
             "sat_length_q40",
+            "fc_recip_mantissa",
+            "fc_recip_shift",
         )
     ]
 

@@ -46,10 +46,13 @@ typedef struct {
                                micro-damping force times 1 + a sgn(load) (ss_friction.h); 0 = symmetric */
     /* Reciprocals, so that the step multiplies where it divided (ss_friction_config_reciprocals_q
      * fills them; the check refuses a config whose reciprocals are not its own): */
-    int32_t inv_vs_q45;     /* 2^45 / vs_q28 rounded: 1/vs in s/m at 2^-17 */
-    int32_t inv_sigma0_q47; /* 2^47 / sigma0_n_per_m rounded: 1/sigma0 in m/N at 2^-47 */
-    int32_t inv_fs_q48;     /* 2^48 / fs_q24 rounded: 1/Fs in 1/N at 2^-24 */
-    int32_t sat_length_q40; /* 24 Fs / sigma0 (truncated), m at 2^-40: where the LS element re-bases */
+    int32_t inv_vs_q45;        /* 2^45 / vs_q28 rounded: 1/vs in s/m at 2^-17 */
+    int32_t inv_sigma0_q47;    /* 2^47 / sigma0_n_per_m rounded: 1/sigma0 in m/N at 2^-47 */
+    int32_t inv_fs_q48;        /* 2^48 / fs_q24 rounded: 1/Fs in 1/N at 2^-24 */
+    int32_t sat_length_q40;    /* 24 Fs / sigma0 (truncated), m at 2^-40: where the LS element re-bases */
+    int32_t fc_recip_mantissa; /* 1/Fc = fc_recip_mantissa 2^-fc_recip_shift as ss_reciprocal_mantissa_q */
+    int32_t fc_recip_shift;    /* gives it: the Stribeck level in gross sliding is Fc exactly, and the
+                                * laws take its reciprocal from here, not anew each step */
 } ss_friction_config_q_t;
 
 /* Fill cfg's reciprocals and saturation length from its fs_q24, vs_q28 and sigma0_n_per_m (0 where

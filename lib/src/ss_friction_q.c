@@ -6,6 +6,20 @@
 
 /* Beyond r = v/vs = 256 (r^2 = 65536) exp(-r^2) is zero in Q30; the clamp also bounds r^2. */
 #define SS_Q_STRIBECK_R_MAX_Q16 ((int64_t)256 << 16)
+/* r = |v| / vs (Q16.16) from which exp(-r^2) is 0 in Q30 whatever r's fraction: r^2 at 2^-32 then
+ * has a top (Q16) part hi >= 1 408 209, where ss_exp_neg_q16_q30's power of two, hi log2(e) (its
+ * 1 549 082 005 at 2^-30), reaches 31: below 2^-31, 0 (303 791^2 >= 1 408 209 x 2^16 > 303 790^2).
+ * The Stribeck level there is Fc and its slope 0, the bits the exponential gives, without its two
+ * products (gross sliding, |v| >= 4.64 vs) */
+#define SS_Q_STRIBECK_R_ZERO_Q16 303791
+
+/* Fc's reciprocal as ss_reciprocal_mantissa_q gives it (0 and 0 for Fc <= 0) */
+static void fc_reciprocal(ss_friction_config_q_t *cfg)
+{
+    int sh = 0;
+    cfg->fc_recip_mantissa = (cfg->fc_q24 > 0) ? ss_reciprocal_mantissa_q((uint32_t)cfg->fc_q24, &sh) : 0;
+    cfg->fc_recip_shift = sh;
+}
 
 ss_friction_config_q_t ss_friction_config_table1_q(void)
 {
@@ -22,6 +36,7 @@ ss_friction_config_q_t ss_friction_config_table1_q(void)
     cfg.inv_sigma0_q47 = 14073749; /* 2^47 / 1e7 */
     cfg.inv_fs_q48 = 4660338;      /* 2^48 / 60397980 */
     cfg.sat_length_q40 = 9499780;  /* 24 x 3.6 N / 1e7 N/m = 8.64 um */
+    fc_reciprocal(&cfg);           /* integer arithmetic: the same on every target */
     return cfg;
 }
 
@@ -42,14 +57,16 @@ void ss_friction_config_reciprocals_q(ss_friction_config_q_t *cfg)
     cfg->inv_sigma0_q47 = ss_reciprocal_q(cfg->sigma0_n_per_m, SS_Q_SIGMA0_MIN_N_PER_M, 47);
     cfg->inv_fs_q48 = ss_reciprocal_q(cfg->fs_q24, SS_Q_FS_MIN_Q24, 48);
     cfg->sat_length_q40 = sat_length_q40(cfg);
+    fc_reciprocal(cfg);
 }
 
-static const char *const FIELD_NAMES_Q[2][11] = {
+static const char *const FIELD_NAMES_Q[2][12] = {
     {"fs_q24", "fc_q24", "vs_q28", "sigma0_n_per_m", "sigma1_q16", "sigma2_q16", "asymmetry_q30",
-     "inv_vs_q45", "inv_sigma0_q47", "inv_fs_q48", "sat_length_q40"},
+     "inv_vs_q45", "inv_sigma0_q47", "inv_fs_q48", "sat_length_q40", "fc_recip_mantissa"},
     {"friction.fs_q24", "friction.fc_q24", "friction.vs_q28", "friction.sigma0_n_per_m",
      "friction.sigma1_q16", "friction.sigma2_q16", "friction.asymmetry_q30", "friction.inv_vs_q45",
-     "friction.inv_sigma0_q47", "friction.inv_fs_q48", "friction.sat_length_q40"},
+     "friction.inv_sigma0_q47", "friction.inv_fs_q48", "friction.sat_length_q40",
+     "friction.fc_recip_mantissa"},
 };
 
 ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, int prefixed,
@@ -86,6 +103,12 @@ ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, 
         bad = 9;
     } else if (cfg->sat_length_q40 != sat_length_q40(cfg)) {
         bad = 10;
+    } else {
+        ss_friction_config_q_t own = *cfg;
+        fc_reciprocal(&own);
+        if (cfg->fc_recip_mantissa != own.fc_recip_mantissa || cfg->fc_recip_shift != own.fc_recip_shift) {
+            bad = 11;
+        }
     }
     if (bad >= 0) {
         *bad_field = names[bad];
@@ -125,6 +148,9 @@ int32_t ss_stribeck_q(const ss_friction_config_q_t *cfg, int32_t v_q28)
     }
     /* r in [0, 2^24] (clamped), e in [0, 2^30], Fs - Fc in [0, Fs]: 32-bit products */
     const int64_t r = stribeck_ratio_q16(cfg, v_q28);
+    if (r >= SS_Q_STRIBECK_R_ZERO_Q16) {
+        return cfg->fc_q24;
+    }
     const int64_t e = ss_exp_neg_q32_q30(ss_mul_u32_u64((uint32_t)r, (uint32_t)r)); /* r^2 in Q32, exact */
     return (int32_t)(cfg->fc_q24 + ss_shr_round(ss_mul_s32_s64(cfg->fs_q24 - cfg->fc_q24, (int32_t)e), 30));
 }
@@ -143,6 +169,10 @@ int32_t ss_stribeck_with_slope_q(const ss_friction_config_q_t *cfg, int32_t v_q2
         return cfg->fs_q24;
     }
     const int64_t r = stribeck_ratio_q16(cfg, v_q28); /* as in ss_stribeck_q: 32-bit products */
+    if (r >= SS_Q_STRIBECK_R_ZERO_Q16) {
+        *slope_q16 = 0;
+        return cfg->fc_q24;
+    }
     const int64_t e = ss_exp_neg_q32_q30(ss_mul_u32_u64((uint32_t)r, (uint32_t)r)); /* r^2 in Q32, exact */
     const int64_t excess =
         ss_shr_round(ss_mul_s32_s64(cfg->fs_q24 - cfg->fc_q24, (int32_t)e), 30); /* N at 2^-24 */

@@ -3,6 +3,7 @@
 #include <stddef.h>
 
 #include "ss_fixed_ops.h"
+#include "ss_friction_inline_q.h"
 
 /* sigma0 |dx| / (2^halves Fs) as the Q32 exponent of ss_exp_neg_q32_q30: N/m times m at 2^-40
  * times 1/N at 2^-24 is a pure number at 2^-64. A branch spans at most two saturation lengths
@@ -204,7 +205,7 @@ int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_
         /* 1/g = m 2^-sh, once for both quotients by g: g in [Fc, Fs] within (2^11, 2^29], so sh in
          * [42, 60] */
         int sh = 0;
-        const int32_t m = ss_reciprocal_mantissa_q((uint32_t)g, &sh);
+        const int32_t m = ss_stribeck_recip_q(cfg, g, &sh);
         const int64_t ratio = ss_mul_recip_q(st->level_q24, m, sh - 30); /* s / g, Q30 */
         const int64_t one_m = SS_Q30_ONE - ratio;
         zdot = ss_shr_round(ss_mul_i64_i32(one_m, vp), 30); /* m/s at 2^-28 */

@@ -3,6 +3,7 @@
 #include <stddef.h>
 
 #include "ss_fixed_ops.h"
+#include "ss_friction_inline_q.h"
 
 /* |sigma0 z| (N at 2^-40) is at most about Fs; clamping it at 256 N keeps every product below
  * 2^63 whatever the state holds. */
@@ -44,7 +45,7 @@ static int32_t force_at(const ss_friction_config_q_t *cfg, const ss_lugre_state_
         (dfdv_q16 != NULL) ? ss_stribeck_with_slope_q(cfg, v_q28, &slope) : ss_stribeck_q(cfg, v_q28);
     /* 1/g = m 2^-sh, once for both quotients by g */
     int sh = 0;
-    const int32_t m = ss_reciprocal_mantissa_q((uint32_t)g, &sh);
+    const int32_t m = ss_stribeck_recip_q(cfg, g, &sh);
     /* the bristle force sigma0 z, N at 2^-40 */
     const int64_t sz =
         ss_clamp64(ss_mul_s32_s64(cfg->sigma0_n_per_m, st->z_q40), -SS_LUGRE_Q_SZ_MAX, SS_LUGRE_Q_SZ_MAX);
@@ -84,7 +85,7 @@ void ss_lugre_advance_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *s
     /* exponent sigma0 |dx| / g with 32 fraction bits, as in the LS element */
     const uint64_t num = ss_mul_u64_u32((uint64_t)ss_abs64(dx_q40), (uint32_t)cfg->sigma0_n_per_m);
     int sh = 0;
-    const int32_t m = ss_reciprocal_mantissa_q((uint32_t)g, &sh);
+    const int32_t m = ss_stribeck_recip_q(cfg, g, &sh);
     const int64_t decay = ss_exp_neg_q32_q30(ss_ratio_x65536_recip(num, (uint64_t)g, m, sh)); /* [0, 2^30] */
     st->z_q40 = ss_sat32(z_ss + ss_shr_round(ss_mul_i64_i32((int64_t)st->z_q40 - z_ss, (int32_t)decay), 30));
 }

@@ -3,6 +3,8 @@
 
 #include "ss_fixed.h"
 #include "ss_fixed_ops.h"
+#include "ss_actuator_q.h"
+#include "ss_friction_q.h"
 
 static void test_sat32(void **unused)
 {
@@ -332,9 +334,58 @@ static void test_exp_neg_q32_error_bound(void **unused)
     assert_int_equal(ss_exp_neg_q32_q30(UINT64_MAX), 0);
 }
 
+/* Gross sliding's shortcuts, the bits the long way gives: from r = |v| / vs = 303 791 / 2^16
+ * (4.64) exp(-r^2) is 0 in Q30, so g is Fc and its slope 0 without the exponential; just below,
+ * the exponential's own rounding decides; and 1/g there is the config's Fc reciprocal,
+ * ss_reciprocal_mantissa_q's of Fc. */
+static void test_q_stribeck_in_gross_sliding(void **unused)
+{
+    (void)unused;
+    /* a contact with Fs - Fc of 29 N, so that an exponential of 1 (2^-30) still moves g by one
+     * unit: Table I's 0.6 N rounds e <= 53 away, and would not tell */
+    ss_friction_config_q_t wide = ss_friction_config_table1_q();
+    wide.fs_q24 = 30 << 24;
+    wide.fc_q24 = 1 << 24;
+    ss_friction_config_reciprocals_q(&wide);
+    assert_int_equal(ss_friction_config_check_q(&wide, NULL), SS_OK);
+    const ss_friction_config_q_t *f = &wide;
+    assert_int_equal(ss_exp_neg_q32_q30((uint64_t)303791 * 303791), 0);
+    /* r = v_q28 inv_vs_q45 / 2^29: the speeds around the threshold, a 2^-28 m/s apart */
+    const double v_zero = 303791.0 * 0x1p29 / (double)f->inv_vs_q45;
+    int32_t prev = INT32_MAX;
+    for (int32_t v = (int32_t)(0.95 * v_zero); v < (int32_t)v_zero + 3000; ++v) {
+        int32_t slope = 1;
+        const int32_t g = ss_stribeck_with_slope_q(f, v, &slope);
+        assert_int_equal(ss_stribeck_q(f, v), g);
+        assert_int_equal(ss_stribeck_q(f, -v), g);
+        assert_true(g <= prev && g >= f->fc_q24); /* falling to Fc, never below */
+        const int64_t r = ((int64_t)v * f->inv_vs_q45 + ((int64_t)1 << 28)) >> 29;
+        /* the long way: Fc + (Fs - Fc) exp(-r^2), rounded as the library does */
+        const int64_t e = ss_exp_neg_q32_q30((uint64_t)r * (uint64_t)r);
+        assert_int_equal(g, f->fc_q24 + (((int64_t)(f->fs_q24 - f->fc_q24) * e + (1 << 29)) >> 30));
+        if (r >= 303791) {
+            assert_int_equal(g, f->fc_q24);
+            assert_int_equal(slope, 0);
+        }
+        prev = g;
+    }
+    int sh = 0;
+    assert_int_equal(ss_reciprocal_mantissa_q((uint32_t)f->fc_q24, &sh), f->fc_recip_mantissa);
+    assert_int_equal(sh, f->fc_recip_shift);
+    const ss_friction_config_q_t table1 = ss_friction_config_table1_q();
+    assert_int_equal(ss_reciprocal_mantissa_q((uint32_t)table1.fc_q24, &sh), table1.fc_recip_mantissa);
+    assert_int_equal(sh, table1.fc_recip_shift);
+    ss_actuator_config_q_t t = ss_actuator_config_table1_q();
+    const char *bad = NULL;
+    t.friction.fc_recip_mantissa += 1; /* a config whose reciprocal is not its own */
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.fc_recip_mantissa");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_q_stribeck_in_gross_sliding),
         cmocka_unit_test(test_sat32),
         cmocka_unit_test(test_shr_round),
         cmocka_unit_test(test_mul_shr_round_wide),
