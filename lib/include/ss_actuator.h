@@ -108,8 +108,9 @@ ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_ac
 #define SS_COARSE_LS_V_REL_MAX_M_PER_S 3e-3f
 /* The bounds above lean on the coarse step's flows: the rod's force ramp (both laws) and LS's
  * slider flow. A coarse step that cannot take them (with a base it takes the fine step's form; an
- * LS contact as stiff as x = sigma0 (n dt)^2 / M_C >= 0.1 takes the slider's kick-drift-kick; in
- * the q family, a stack too soft for the held form) keeps the bounds they were chosen with before
+ * LS contact as stiff as x = (1 + |asymmetry|) sigma0 (n dt)^2 / M_C >= 0.1, its stiffest, takes
+ * the slider's kick-drift-kick; in the q family, a stack too soft for the held form) keeps the
+ * bounds they were chosen with before
  * the flows: 1 mm/s and 0.05 mm/s, and 2 dt's LS 10 and 0.5 mm/s, LuGre's as above
  * (ss_actuator_coarse_kicked_bounds_f32). */
 #define SS_COARSE_KICKED_V_REL_MAX_M_PER_S 1e-3f

@@ -670,8 +670,11 @@ ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uin
     co->v_ring_max_m_per_s = ls ? SS_COARSE_LS_V_RING_MAX_M_PER_S : SS_COARSE_V_RING_MAX_M_PER_S;
     co->v_rel_mid_max_m_per_s = ls ? SS_COARSE_LS_V_REL_MID_MAX_M_PER_S : SS_COARSE_V_REL_MID_MAX_M_PER_S;
     co->v_ring_mid_max_m_per_s = ls ? SS_COARSE_LS_V_RING_MID_MAX_M_PER_S : SS_COARSE_V_RING_MID_MAX_M_PER_S;
+    /* LS's contact is at most (1 + |asymmetry|) sigma0 stiff (ls_stiffness' dF/dx): the flow must
+     * hold at that */
+    const float kt_max = (1.0f + fabsf(cfg->friction.asymmetry)) * cfg->friction.sigma0_n_per_m;
     if (cfg->effects.base_mass_kg != 0.0f ||
-        (ls && cfg->friction.sigma0_n_per_m * dt * dt / cfg->slider_mass_kg >= SS_COARSE_FLOW_X_MAX)) {
+        (ls && kt_max * dt * dt / cfg->slider_mass_kg >= SS_COARSE_FLOW_X_MAX)) {
         ss_actuator_coarse_kicked_bounds_f32(co, cfg->friction_model);
     }
     rod_flow(cfg, dt, co->phi);

@@ -44,6 +44,16 @@ static void test_init_refuses(void **unused)
     assert_true(co.v_rel_mid_max_m_per_s == SS_COARSE_LS_V_REL_MID_MAX_M_PER_S);
     assert_true(co.v_ring_max_m_per_s == SS_COARSE_LS_V_RING_MAX_M_PER_S);
     assert_true(co.v_rel_max_m_per_s == SS_COARSE_LS_V_REL_MAX_M_PER_S);
+    /* LS's flow holds below x = kt (n dt)^2 / M_C = 0.1, its contact at most (1 + |asymmetry|)
+     * sigma0 stiff: x = 0.07 at sigma0 6e7 N/m over 4 us takes LS's own bounds, and with an
+     * asymmetry of 0.5 (x up to 0.105) the kicked form's */
+    c.dt_s = 1e-6f;
+    c.friction.sigma0_n_per_m = 6.04e7f;
+    assert_int_equal(ss_actuator_coarse_init_f32(&c, 4u, &co, &bad), SS_OK);
+    assert_true(co.v_rel_max_m_per_s == SS_COARSE_LS_V_REL_MAX_M_PER_S);
+    c.friction.asymmetry = -0.5f;
+    assert_int_equal(ss_actuator_coarse_init_f32(&c, 4u, &co, &bad), SS_OK);
+    assert_true(co.v_rel_max_m_per_s == SS_COARSE_KICKED_V_REL_MAX_M_PER_S);
     c = lugre_config();
     c.rod_mass_kg = -1.0f;
     assert_int_equal(ss_actuator_coarse_init_f32(&c, 4u, &co, &bad), SS_ERR_RANGE);
