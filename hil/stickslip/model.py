@@ -510,10 +510,15 @@ def simulate(
     never crosses a row either, so it needs decimation of stick_steps or a multiple."""
     if not isinstance(coarse_steps, int) or coarse_steps < 1:
         raise ValueError(f"coarse_steps must be an integer >= 1, got {coarse_steps!r}")
-    if not isinstance(stick_steps, int) or stick_steps < 0:
+    if isinstance(stick_steps, bool) or not isinstance(stick_steps, int) or stick_steps < 0:
         raise ValueError(f"stick_steps must be an integer >= 0, got {stick_steps!r}")
     if stick_steps and coarse_steps < 2:
         raise ValueError("stick_steps: with coarse_steps > 1 (a stick step is a coarse run's)")
+    if stick_steps and decimation % stick_steps:
+        raise ValueError(
+            f"stick_steps {stick_steps}: decimation {decimation} is not a multiple of it (a stick "
+            "step never crosses a row, so none would fit)"
+        )
     if coarse_steps > 1 and variant == "q" and drive_v is not None:
         raise ValueError(
             "coarse_steps: the q variant's sawtooth only (a sampled drive bends each step)"

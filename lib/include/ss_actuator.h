@@ -169,12 +169,15 @@ void ss_actuator_coarse_kicked_bounds_f32(ss_actuator_coarse_f32_t *co, int32_t 
 #define SS_COARSE_STICK_V_REL_MAX_M_PER_S 5e-4f
 #define SS_COARSE_STICK_V_RING_MAX_M_PER_S 5e-5f
 #define SS_COARSE_STICK_FORCE_SHARE 0.1f
+/* A load at most this share of Fc (it holds the bristle off 0 all through the stick) */
+#define SS_COARSE_STICK_LOAD_SHARE 0.01f
 
-/* Turn co's stick steps on with stick_n steps of dt each ([2, 256], stick_n dt <= 1 ms), or off with
- * stick_n 0, for cfg (the config co was made for). SS_ERR_RANGE with bad_field "friction_model" for
- * a law other than LuGre, "coarse_stick_n" for stick_n out of range, or the first effect the
- * linear flow does not hold (every one but the load and the sensor's scale, and an asymmetry):
- * e.g. "effects.slew_v_per_s"; co unchanged on an error. */
+/* Turn co's stick steps on with stick_n steps of dt each ((co->n, 256], stick_n dt <= 1 ms), or off
+ * with stick_n 0, for cfg (the config co was made for). SS_ERR_RANGE with bad_field
+ * "friction_model" for a law other than LuGre, "coarse_stick_n" for stick_n out of range, the first
+ * effect the linear flow does not hold (every one but the sensor's scale and a load within
+ * SS_COARSE_STICK_LOAD_SHARE Fc, and an asymmetry): e.g. "effects.slew_v_per_s" or
+ * "effects.load_n"; co unchanged on an error. */
 ss_status_t ss_actuator_coarse_stick_f32(const ss_actuator_config_f32_t *cfg, uint32_t stick_n,
                                          ss_actuator_coarse_f32_t *co, const char **bad_field);
 

@@ -36,8 +36,9 @@ ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t
                                     ss_actuator_coarse_q_t *out, const char **bad_field);
 /* Turn out's stick steps on with stick_n steps of in's dt (out made by ss_actuator_coarse_to_q
  * from in), or off with stick_n 0: ss_actuator_coarse_stick_f32's flow and rules, converted. Its
- * errors, and SS_ERR_RANGE "coarse_stick_n" where a stick step's constants do not fit their
- * formats (a stack too soft for the held form among them); out unchanged on an error. */
+ * errors, SS_ERR_RANGE "piezo_stiffness_n_per_m" for a stack too soft for the held form
+ * (compliance_q56 0), and "coarse_stick_n" where a stick step's constants do not fit their
+ * formats; out unchanged on an error. */
 ss_status_t ss_actuator_coarse_stick_to_q(const ss_actuator_config_f32_t *in, uint32_t stick_n,
                                           ss_actuator_coarse_q_t *out, const char **bad_field);
 /* A sawtooth (kind SS_WAVE_SAWTOOTH) only; frequency to whole mHz, volts to Q16.16. */

@@ -371,8 +371,14 @@ ss_status_t ss_actuator_coarse_stick_to_q(const ss_actuator_config_f32_t *in, ui
         while (shift > 0 && phi_max * ldexp(1.0, shift) > ldexp(1.0, 30)) {
             --shift;
         }
-        int ok = out->compliance_q56 != 0; /* the steady state's rod offset is load / k */
-        ok = ok && fits_i32(h * SS_QF_ONE(SS_QF_TIME), &q.stick_h_q40);
+        if (out->compliance_q56 == 0) { /* the steady state's rod offset is load / k */
+            *bad = "piezo_stiffness_n_per_m";
+            return SS_ERR_RANGE;
+        }
+        /* stick_n of the q config's own dt (rounded as ss_actuator_config_to_q rounds it), as the
+         * player takes them */
+        const double dt_q40 = floor((double)in->dt_s * SS_QF_ONE(SS_QF_TIME) + 0.5);
+        int ok = fits_i32((double)stick_n * dt_q40, &q.stick_h_q40);
         /* 1/s at 2^-7, as the config's inv_dt_q47: a length at 2^-40 times it is a velocity at 2^-47 */
         ok = ok && fits_i32(ldexp(1.0, 7) / h, &q.stick_inv_h_q47);
         ok = ok && fits_i32(w * ldexp(1.0, 7), &q.stick_omega_q47);

@@ -60,13 +60,13 @@ void ss_friction_config_reciprocals_q(ss_friction_config_q_t *cfg)
     fc_reciprocal(cfg);
 }
 
-static const char *const FIELD_NAMES_Q[2][12] = {
+static const char *const FIELD_NAMES_Q[2][13] = {
     {"fs_q24", "fc_q24", "vs_q28", "sigma0_n_per_m", "sigma1_q16", "sigma2_q16", "asymmetry_q30",
-     "inv_vs_q45", "inv_sigma0_q47", "inv_fs_q48", "sat_length_q40", "fc_recip_mantissa"},
+     "inv_vs_q45", "inv_sigma0_q47", "inv_fs_q48", "sat_length_q40", "fc_recip_mantissa", "fc_recip_shift"},
     {"friction.fs_q24", "friction.fc_q24", "friction.vs_q28", "friction.sigma0_n_per_m",
      "friction.sigma1_q16", "friction.sigma2_q16", "friction.asymmetry_q30", "friction.inv_vs_q45",
      "friction.inv_sigma0_q47", "friction.inv_fs_q48", "friction.sat_length_q40",
-     "friction.fc_recip_mantissa"},
+     "friction.fc_recip_mantissa", "friction.fc_recip_shift"},
 };
 
 ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, int prefixed,
@@ -106,8 +106,10 @@ ss_status_t ss_friction_config_check_named_q(const ss_friction_config_q_t *cfg, 
     } else {
         ss_friction_config_q_t own = *cfg;
         fc_reciprocal(&own);
-        if (cfg->fc_recip_mantissa != own.fc_recip_mantissa || cfg->fc_recip_shift != own.fc_recip_shift) {
+        if (cfg->fc_recip_mantissa != own.fc_recip_mantissa) {
             bad = 11;
+        } else if (cfg->fc_recip_shift != own.fc_recip_shift) {
+            bad = 12;
         }
     }
     if (bad >= 0) {

@@ -380,6 +380,10 @@ static void test_q_stribeck_in_gross_sliding(void **unused)
     t.friction.fc_recip_mantissa += 1; /* a config whose reciprocal is not its own */
     assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
     assert_string_equal(bad, "friction.fc_recip_mantissa");
+    t = ss_actuator_config_table1_q();
+    t.friction.fc_recip_shift -= 1;
+    assert_int_equal(ss_actuator_config_check_q(&t, &bad), SS_ERR_RANGE);
+    assert_string_equal(bad, "friction.fc_recip_shift");
 }
 
 int main(void)

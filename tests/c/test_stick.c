@@ -60,8 +60,8 @@ static void test_refuses_effects_and_lengths(void **unused)
     ss_actuator_coarse_f32_t co;
     const char *bad = NULL;
     assert_int_equal(ss_actuator_coarse_init_f32(&c, COARSE, &co, &bad), SS_OK);
-    static const uint32_t lengths[] = {1u, 257u};
-    for (int i = 0; i < 2; ++i) {
+    static const uint32_t lengths[] = {1u, COARSE, 257u}; /* longer than a coarse step */
+    for (int i = 0; i < 3; ++i) {
         assert_int_equal(ss_actuator_coarse_stick_f32(&c, lengths[i], &co, &bad), SS_ERR_RANGE);
         assert_string_equal(bad, "coarse_stick_n");
     }
@@ -94,11 +94,14 @@ static void test_refuses_effects_and_lengths(void **unused)
     e = c;
     e.friction.asymmetry = 0.2f;
     refused(e, "friction.asymmetry");
-    /* a load and the sensor's scale it holds (a constant force; the record's scale) */
+    /* the sensor's scale it holds (the record's), and a load within 1 % of Fc (3 N): a larger one
+     * holds the bristle off 0, and the relaxation the flow leaves out creeps */
     e = c;
-    e.effects.load_n = 0.2f;
+    e.effects.load_n = -0.03f;
     e.effects.sensor_scale_error = 0.01f;
     assert_int_equal(ss_actuator_coarse_stick_f32(&e, STICK, &co, &bad), SS_OK);
+    e.effects.load_n = 0.031f;
+    refused(e, "effects.load_n");
     /* the q converter: the same rules, and a stack too soft for the held form */
     ss_actuator_coarse_q_t q;
     assert_int_equal(ss_actuator_coarse_to_q(&c, COARSE, &q, &bad), SS_OK);
@@ -115,19 +118,17 @@ static void test_refuses_effects_and_lengths(void **unused)
     e.piezo_stiffness_n_per_m = 2e7f;
     assert_int_equal(ss_actuator_coarse_to_q(&e, COARSE, &q, &bad), SS_OK);
     assert_int_equal(ss_actuator_coarse_stick_to_q(&e, STICK, &q, &bad), SS_ERR_RANGE);
-    assert_string_equal(bad, "coarse_stick_n");
+    assert_string_equal(bad, "piezo_stiffness_n_per_m");
 }
 
 /* One stick step against 16 x 40 fine steps of dt / 16 from the same state, over each stick step
  * of two paper cycles (after the first), beside the coarse steps over the same 40 us. The stick
  * step is exact for the linear contact; what it leaves out is LuGre's bristle relaxation, sigma0
- * |v| z / g against v, at most |F| / Fc = 0.1 where it is taken. Measured: the slider's position
- * off by 0.032 nm on average (the coarse steps': 0.033), at most 0.39 nm (0.26): a cycle's step is
- * 2.2 um. */
-static void test_one_stick_step_against_fine_steps(void **unused)
+ * |v| z / g against v, about |F| / Fc <= 0.1 where it is taken. Measured: the slider's position
+ * off by 0.030-0.036 nm on average (the coarse steps': 0.033-0.041), at most 0.35 nm (0.26): a
+ * cycle's step is 2.2 um. */
+static void one_stick_step_against_fine_steps(const ss_actuator_config_f32_t c)
 {
-    (void)unused;
-    const ss_actuator_config_f32_t c = lugre_config();
     ss_actuator_config_f32_t fine = c;
     fine.dt_s = c.dt_s / 16.0f;
     ss_actuator_coarse_f32_t co, co_stick;
@@ -143,7 +144,8 @@ static void test_one_stick_step_against_fine_steps(void **unused)
     assert_int_equal(ss_actuator_init_f32(&fine, &tmp, 0.0f), SS_OK); /* the fine run's rod flow */
     uint32_t done = 0;
     int taken_sticks = 0;
-    double sum_stick = 0.0, sum_coarse = 0.0, max_stick = 0.0;
+    double sum_stick = 0.0, sum_coarse = 0.0, max_stick = 0.0, max_coarse = 0.0, max_dv = 0.0,
+           max_dv_coarse = 0.0;
     while (done < 3u * PERIOD_US) {
         const ss_actuator_state_f32_t before = st;
         const ss_waveform_state_f32_t w_before = ws;
@@ -168,18 +170,44 @@ static void test_one_stick_step_against_fine_steps(void **unused)
             const double x_ref = ss_position_value_f32(ref.x_slider);
             const double d_stick = fabs(ss_position_value_f32(st.x_slider) - x_ref);
             sum_stick += d_stick;
-            sum_coarse += fabs(ss_position_value_f32(crs.x_slider) - x_ref);
+            const double d_coarse = fabs(ss_position_value_f32(crs.x_slider) - x_ref);
+            sum_coarse += d_coarse;
+            max_coarse = fmax(max_coarse, d_coarse);
             max_stick = fmax(max_stick, d_stick);
-            assert_close(st.v_slider_m_per_s, ref.v_slider_m_per_s, 2e-5); /* of 2.3 mm/s */
+            max_dv = fmax(max_dv, fabs(st.v_slider_m_per_s - ref.v_slider_m_per_s));
+            max_dv_coarse = fmax(max_dv_coarse, fabs(crs.v_slider_m_per_s - ref.v_slider_m_per_s));
             ++taken_sticks;
             taken = STICK;
         }
         done += taken;
     }
-    assert_true(taken_sticks > 40); /* about 80 of a paper cycle's 2 ms */
+    print_message("%d stick steps: slider off by %.3f nm on average (coarse %.3f), at most %.3f (%.3f); "
+                  "velocity at most %.2e m/s (%.2e)\n",
+                  taken_sticks, 1e9 * sum_stick / taken_sticks, 1e9 * sum_coarse / taken_sticks,
+                  1e9 * max_stick, 1e9 * max_coarse, max_dv, max_dv_coarse);
+    assert_true(taken_sticks > 50); /* about 30 a paper cycle */
     assert_true(max_stick < 0.6e-9);
     assert_true(sum_stick / taken_sticks < 0.06e-9);
     assert_true(sum_stick < 1.5 * sum_coarse); /* as good as the coarse steps over the same time */
+    /* the slider's velocity: the dropped relaxation damps and detunes the contact's ring a little,
+     * 2e-5 m/s at most measured, 4 % of the 0.5 mm/s it may ring at when a stick step starts (the
+     * coarse steps: 6e-6) */
+    assert_true(max_dv < 3e-5);
+}
+
+static void test_one_stick_step_against_fine_steps(void **unused)
+{
+    (void)unused;
+    ss_actuator_config_f32_t c = lugre_config();
+    one_stick_step_against_fine_steps(c);
+    /* the largest load it takes, 1 % of Fc: the bristle's steady state -L / sigma0 in the flow
+     * (mean 0.03 nm, at most 0.3 nm measured) */
+    c.effects.load_n = -0.03f;
+    one_stick_step_against_fine_steps(c);
+    /* a stack damper 30 times Table I's: its lag behind the ramp, c b / k (2 nm over 40 us) */
+    c = lugre_config();
+    c.piezo_damping_kg_per_s = 200.0f;
+    one_stick_step_against_fine_steps(c);
 }
 
 /* The slider's position at each period's middle (rows every STICK steps of 1 us and of 1/8 us: a
@@ -240,12 +268,10 @@ static void test_paper_drive(void **unused)
 
 /* The q family's stick steps against the float's: each cycle's step within 0.05 % (measured
  * 0.001-0.003 %; the q family promises 1 %, docs/fixed-point.md), in about the same model steps. */
-static void test_q_against_float(void **unused)
+static void q_against_float(const ss_actuator_config_f32_t c)
 {
-    (void)unused;
     static float xf[ROWS];
     static int64_t xq[ROWS];
-    const ss_actuator_config_f32_t c = lugre_config();
     ss_actuator_coarse_f32_t co;
     assert_int_equal(ss_actuator_coarse_init_f32(&c, COARSE, &co, NULL), SS_OK);
     assert_int_equal(ss_actuator_coarse_stick_f32(&c, STICK, &co, NULL), SS_OK);
@@ -279,6 +305,18 @@ static void test_q_against_float(void **unused)
         assert_true(sf > 2e-6);
         assert_close(sq, sf, 5e-4 * sf);
     }
+}
+
+static void test_q_against_float(void **unused)
+{
+    (void)unused;
+    ss_actuator_config_f32_t c = lugre_config();
+    q_against_float(c);
+    c.effects.load_n = -0.03f; /* the bristle's and the rod's steady offsets, -L / sigma0 and L / k */
+    q_against_float(c);
+    c = lugre_config();
+    c.piezo_damping_kg_per_s = 400.0f; /* the stack's lag, stick_lag_q30 (dropped: 0.1 % a cycle) */
+    q_against_float(c);
 }
 
 int main(void)

@@ -296,12 +296,14 @@ def test_coarse_steps_keep_the_rows_and_the_per_cycle_step():
         )
 
 
-@pytest.mark.parametrize("stick_n", [8, 40, 256])
+@pytest.mark.parametrize("stick_n", [16, 40, 256])
 def test_stick_flow_is_the_linear_contacts_exponential(stick_n):
-    # The stick step's flow (ss_actuator_coarse_stick_f32, float scaling and squaring) against
-    # scipy's expm of the same linear system, in the balanced coordinates it is stored in
-    # (e, v_rod / w, z, v_slider / w): within 5e-6 of its largest entry (2.6e-6 measured at 40 us,
-    # where that entry is 12), so that a stick step's travel errs by far less than a picometre
+    # The stick step's flow (ss_actuator_coarse_stick_f32: scaling and squaring in double, stored
+    # in float) against scipy's expm of the same linear system, in the balanced coordinates it is
+    # stored in (e, v_rod / w, z, v_slider / w): within 1e-6 of its largest entry (2.8e-8 measured
+    # at 40 us, float's rounding; the float exponential it replaced erred by 2.8e-6 here and by
+    # 1e-3 on a light stiff rod, its eigenvalues past 1), so that a stick step's travel errs by far
+    # less than a picometre
     import ctypes as C
 
     import scipy.linalg
@@ -326,32 +328,35 @@ def test_stick_flow_is_the_linear_contacts_exponential(stick_n):
     ref = d @ scipy.linalg.expm(a * stick_n * 1e-6) @ np.linalg.inv(d)
     assert co.stick_omega_per_s == pytest.approx(w, rel=1e-6)
     err = np.max(np.abs(np.array(co.stick_phi[:]).reshape(4, 4) - ref)) / np.max(np.abs(ref))
-    assert err < 5e-6
+    assert err < 1e-6
 
 
 def test_stick_steps_keep_the_per_cycle_step():
     # LuGre's stick steps of 40 beside coarse steps of 8, rows every 40: a fifth fewer model steps
-    # on the paper's drive (0.221 a microsecond against 0.286 on the same rows), each cycle's step
-    # within 0.1 % of the same run without them (0.01-0.03 % measured; both within 0.1 % of the
-    # converged run, bench/step_study.py --coarse 8 --stick 40), and the q family's likewise
+    # on the paper's drive (0.221 a microsecond against 0.292 on the same rows), each cycle's step
+    # within issue 17's 0.1 % of the converged run at 0.125 us (0.012-0.020 % measured; the period,
+    # 2 ms, is a row of both, so the figure is read, not interpolated), and the q family's within
+    # 0.05 % of the float's (0.001-0.002 % measured)
     w = Sawtooth(cycles=5)
+    ref = simulate(w, model="lugre", dt_s=0.125e-6, decimation=320)
     coarse = simulate(w, model="lugre", decimation=40, coarse_steps=8)
     stick = simulate(w, model="lugre", decimation=40, coarse_steps=8, stick_steps=40)
     assert stick.meta["model_steps"] < 0.8 * coarse.meta["model_steps"]
     np.testing.assert_array_equal(stick.t_s, coarse.t_s)
-    s, f = stick.per_cycle_steps()[1:], coarse.per_cycle_steps()[1:]
+    s, f = stick.per_cycle_steps()[1:], ref.per_cycle_steps()[1:]
     assert np.max(np.abs(s / f - 1)) < 1e-3
     q = simulate(w, model="lugre", decimation=40, coarse_steps=8, stick_steps=40, variant="q")
     assert 0.97 < q.meta["model_steps"] / stick.meta["model_steps"] < 1.03
-    assert np.max(np.abs(q.per_cycle_steps()[1:] / s - 1)) < 1e-3
+    assert np.max(np.abs(q.per_cycle_steps()[1:] / s - 1)) < 5e-4
     # refused by name: LS (no one stiffness for its Masing contact), an effect the linear flow does
     # not hold, a stick step without coarse steps
     with pytest.raises(ValueError, match="friction_model"):
-        simulate(w, model="ls", coarse_steps=4, stick_steps=40)
+        simulate(w, model="ls", decimation=40, coarse_steps=4, stick_steps=40)
     with pytest.raises(ValueError, match="effects.creep_ratio"):
         simulate(
             w,
             model="lugre",
+            decimation=40,
             coarse_steps=8,
             stick_steps=40,
             effects=Effects(creep_ratio=0.1, creep_tau_s=1e-3),
@@ -360,3 +365,16 @@ def test_stick_steps_keep_the_per_cycle_step():
         simulate(w, model="lugre", stick_steps=40)
     with pytest.raises(ValueError, match="stick_steps must be"):
         simulate(w, model="lugre", coarse_steps=8, stick_steps=-1)
+    with pytest.raises(ValueError, match="not a multiple"):
+        simulate(w, model="lugre", decimation=8, coarse_steps=8, stick_steps=40)
+    with pytest.raises(ValueError, match="coarse_stick_n"):  # no longer than a coarse step
+        simulate(w, model="lugre", decimation=40, coarse_steps=8, stick_steps=4)
+    with pytest.raises(ValueError, match="effects.load_n"):  # past 1 % of Fc
+        simulate(
+            w,
+            model="lugre",
+            decimation=40,
+            coarse_steps=8,
+            stick_steps=40,
+            effects=Effects(load_n=0.1),
+        )
