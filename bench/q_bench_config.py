@@ -1,7 +1,8 @@
 """The fixed-point bench's configs (fw/bench_q_config.h): Table I at the step at which LS holds
 issue 17's 0.1 % a cycle (bench/step_study.py --variant q: 0.070 % at 1.5 us), and the coarse
 steps: LS's of 4 at 1.5 us (ss_actuator_coarse_to_q; --variant q --coarse 4: 0.068 %), LuGre's of 8
-at 1 us (--coarse 8: 0.066 %) and with stick steps of 40 (--coarse 8 --stick 40), through the host
+at 1 us (--coarse 8: 0.066 %), and LuGre's stick steps of 40 at 1.5 us with coarse steps of 4
+(--steps-us 1.5 --coarse 4 --stick 40), through the host
 converter (in double), which the integer-only bench image does not link.
 tests/python/test_firmware_q.py checks that the committed header is what this prints.
 
@@ -17,7 +18,8 @@ from stickslip import _native as N
 LS_STEP_S = 1.5e-6
 LS_COARSE_N = 4  # 6 us: a q config holds dt / 2 M_R to 8.6 us for Table I's rod
 COARSE_N = 8
-STICK_N = 40  # LuGre's stick steps (--variant q --coarse 8 --stick 40)
+STICK_N = 40  # LuGre's stick steps at 1.5 us with coarse steps of 4 (--variant q --steps-us 1.5
+STICK_COARSE_N = 4  # --coarse 4 --stick 40)
 
 
 def coarse_q(cfg, n: int):
@@ -39,6 +41,9 @@ def header() -> str:
     cfg.dt_s = C.c_float(LS_STEP_S).value
     lugre = N.table1_actuator()
     lugre.friction_model = N.SS_FRICTION_LUGRE
+    lugre_15 = N.table1_actuator()
+    lugre_15.friction_model = N.SS_FRICTION_LUGRE
+    lugre_15.dt_s = C.c_float(LS_STEP_S).value
     return "\n".join(
         [
             "/* Table I, LS, at a step of 1.5 us as the host converter makes it",
@@ -59,8 +64,9 @@ def header() -> str:
             f"/* Table I, LuGre, dt 1 us: coarse steps of {COARSE_N} (ss_actuator_coarse_to_q) */",
             *N.c_define("SS_BENCH_Q_LUGRE_COARSE", coarse_q(lugre, COARSE_N)),
             "",
-            f"/* ... with stick steps of {STICK_N} (ss_actuator_coarse_stick_to_q) */",
-            *N.c_define("SS_BENCH_Q_LUGRE_STICK", stick_q(lugre, COARSE_N, STICK_N)),
+            f"/* Table I, LuGre, dt 1.5 us: coarse steps of {STICK_COARSE_N}, stick steps of "
+            f"{STICK_N} (ss_actuator_coarse_stick_to_q) */",
+            *N.c_define("SS_BENCH_Q_LUGRE_STICK", stick_q(lugre_15, STICK_COARSE_N, STICK_N)),
             "/* clang-format on */",
             "",
             "#endif /* SS_BENCH_Q_CONFIG_H */",

@@ -20,9 +20,10 @@ each drive's error and model steps per microsecond (issue 17's figures: LuGre 8 
 --stick L adds LuGre's stick steps of L where the contact has stopped ringing (docs/model.md,
 "Stick steps"), with rows every L steps; the per-cycle steps of the run and of its reference are
 then read before each fast edge (edge_cycle_steps), and the table compares with the same run
-without them (issue 17's figure: 40 at 1 us with coarse steps of 8):
+without them (issue 17's figure: 40 at 1.5 us with coarse steps of 4, a run with stick steps
+taking its fine steps on a fast edge in parts):
 
-    PYTHONPATH=hil .venv/bin/python bench/step_study.py --models lugre --steps-us 1 --coarse 8 \
+    PYTHONPATH=hil .venv/bin/python bench/step_study.py --models lugre --steps-us 1.5 --coarse 4 \
         --stick 40
 
 --param sets an actuator parameter (ActuatorParams' names) for every run, reference included: an

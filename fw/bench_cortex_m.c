@@ -53,8 +53,10 @@ static void print_merit(const ss_port_link_t *link, const char *name, double mod
     print(link, line);
 }
 
-/* LuGre's stick steps (bench/step_study.py --coarse 8 --stick 40) */
+/* LuGre's stick steps (bench/step_study.py --models lugre --steps-us 1.5 --coarse 4 --stick 40) */
 #define STICK_N 40u
+#define STICK_COARSE_N 4u
+#define STICK_DT_S 1.5e-6f
 
 /* A coarse run of BENCH_STEPS steps of dt with rows every `rows`: the same model time in fewer
  * model steps; the player advanced every step of dt but read once a model step (advance_ns,
@@ -124,16 +126,25 @@ int main(void)
         char name[48];
         (void)snprintf(name, sizeof name, "%s coarse %lu", names[m], (unsigned long)coarse_n[m]);
         coarse_run(link, name, &cfg, &co, &w, coarse_n[m], advance_ns, player_ns, " (coarse steps)");
-        if (m == SS_FRICTION_LUGRE) {
-            /* and stick steps of STICK_N once the contact has stopped ringing (docs/model.md), with
-             * rows every STICK_N steps */
-            (void)ss_actuator_coarse_stick_f32(&cfg, STICK_N, &co, NULL);
-            (void)snprintf(name, sizeof name, "%s coarse %lu stick %lu", names[m], (unsigned long)coarse_n[m],
-                           (unsigned long)STICK_N);
-            coarse_run(link, name, &cfg, &co, &w, STICK_N, advance_ns, player_ns,
-                       " (coarse and stick steps)");
-        }
     }
+    /* LuGre with stick steps of STICK_N once the contact has stopped ringing, and its fine steps on
+     * a fast edge in parts (docs/model.md): at LS's 1.5 us with coarse steps of 4, rows every
+     * STICK_N steps */
+    ss_actuator_config_f32_t cfg = ss_actuator_config_table1_f32();
+    cfg.friction_model = SS_FRICTION_LUGRE;
+    cfg.dt_s = STICK_DT_S;
+    ss_waveform_config_f32_t w = ss_waveform_paper_f32();
+    w.cycles = 1000u;
+    uint64_t advance_ns;
+    uint64_t player_ns;
+    player_cost(link, &w, cfg.dt_s, &advance_ns, &player_ns);
+    ss_actuator_coarse_f32_t co;
+    (void)ss_actuator_coarse_init_f32(&cfg, STICK_COARSE_N, &co, NULL);
+    (void)ss_actuator_coarse_stick_f32(&cfg, STICK_N, &co, NULL);
+    char name[48];
+    (void)snprintf(name, sizeof name, "lugre coarse %lu stick %lu", (unsigned long)STICK_COARSE_N,
+                   (unsigned long)STICK_N);
+    coarse_run(link, name, &cfg, &co, &w, STICK_N, advance_ns, player_ns, " (coarse and stick steps)");
     ss_cortex_m_exit(0);
     return 0;
 }

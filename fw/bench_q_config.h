@@ -157,6 +157,52 @@
     .stick_force_max_q24 = 0, \
     .stick_phi_shift = 0, \
     .stick_phi_q = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, \
+    .edge_parts = 0, \
+    .edge_limit_q16 = 0, \
+    .edge_part_q30 = 0, \
+    .edge_pad = 0, \
+    .cfg_edge = { \
+        .dt_q40 = 0, \
+        .piezo_gain_q48 = 0, \
+        .friction_model = 0, \
+        .lag_q24 = 0, \
+        .kick_rod_q40 = 0, \
+        .kick_slider_q40 = 0, \
+        .phi_q28 = {0, 0, 0, 0}, \
+        .friction = { \
+            .fs_q24 = 0, \
+            .fc_q24 = 0, \
+            .vs_q28 = 0, \
+            .sigma0_n_per_m = 0, \
+            .sigma1_q16 = 0, \
+            .sigma2_q16 = 0, \
+            .asymmetry_q30 = 0, \
+            .inv_vs_q45 = 0, \
+            .inv_sigma0_q47 = 0, \
+            .inv_fs_q48 = 0, \
+            .sat_length_q40 = 0, \
+            .fc_recip_mantissa = 0, \
+            .fc_recip_shift = 0, \
+        }, \
+        .inv_dt_q47 = 0, \
+        .effects = { \
+            .load_q24 = 0, \
+            .slew_q24 = 0, \
+            .sensor_scale_q30 = 0, \
+            .hysteresis_alpha_q30 = 0, \
+            .hysteresis_width_q40 = 0, \
+            .pad = 0, \
+            .hysteresis_inv_width_q48 = 0, \
+            .base_kick_q40 = 0, \
+            .base_stiffness_n_per_m = 0, \
+            .base_damping_q16 = 0, \
+            .piezo_stiffness_n_per_m = 0, \
+            .piezo_damping_q16 = 0, \
+            .pad2 = 0, \
+        }, \
+        .contact_lag_q30 = 0, \
+        .rod_w2dt2_q28 = 0, \
+    }, \
 }
 
 /* Table I, LuGre, dt 1 us: coarse steps of 8 (ss_actuator_coarse_to_q) */
@@ -265,19 +311,65 @@
     .stick_force_max_q24 = 0, \
     .stick_phi_shift = 0, \
     .stick_phi_q = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, \
+    .edge_parts = 0, \
+    .edge_limit_q16 = 0, \
+    .edge_part_q30 = 0, \
+    .edge_pad = 0, \
+    .cfg_edge = { \
+        .dt_q40 = 0, \
+        .piezo_gain_q48 = 0, \
+        .friction_model = 0, \
+        .lag_q24 = 0, \
+        .kick_rod_q40 = 0, \
+        .kick_slider_q40 = 0, \
+        .phi_q28 = {0, 0, 0, 0}, \
+        .friction = { \
+            .fs_q24 = 0, \
+            .fc_q24 = 0, \
+            .vs_q28 = 0, \
+            .sigma0_n_per_m = 0, \
+            .sigma1_q16 = 0, \
+            .sigma2_q16 = 0, \
+            .asymmetry_q30 = 0, \
+            .inv_vs_q45 = 0, \
+            .inv_sigma0_q47 = 0, \
+            .inv_fs_q48 = 0, \
+            .sat_length_q40 = 0, \
+            .fc_recip_mantissa = 0, \
+            .fc_recip_shift = 0, \
+        }, \
+        .inv_dt_q47 = 0, \
+        .effects = { \
+            .load_q24 = 0, \
+            .slew_q24 = 0, \
+            .sensor_scale_q30 = 0, \
+            .hysteresis_alpha_q30 = 0, \
+            .hysteresis_width_q40 = 0, \
+            .pad = 0, \
+            .hysteresis_inv_width_q48 = 0, \
+            .base_kick_q40 = 0, \
+            .base_stiffness_n_per_m = 0, \
+            .base_damping_q16 = 0, \
+            .piezo_stiffness_n_per_m = 0, \
+            .piezo_damping_q16 = 0, \
+            .pad2 = 0, \
+        }, \
+        .contact_lag_q30 = 0, \
+        .rod_w2dt2_q28 = 0, \
+    }, \
 }
 
-/* ... with stick steps of 40 (ss_actuator_coarse_stick_to_q) */
+/* Table I, LuGre, dt 1.5 us: coarse steps of 4, stick steps of 40 (ss_actuator_coarse_stick_to_q) */
 #define SS_BENCH_Q_LUGRE_STICK \
 { \
     .cfg = { \
-        .dt_q40 = 8796093, \
+        .dt_q40 = 6597070, \
         .piezo_gain_q48 = 12384899, \
         .friction_model = 1, \
-        .lag_q24 = 62511, \
-        .kick_rod_q40 = 3998224113, \
-        .kick_slider_q40 = 318699025, \
-        .phi_q28 = {-248242346, -24953744, 301985673, -247117159}, \
+        .lag_q24 = 83348, \
+        .kick_rod_q40 = 2998668198, \
+        .kick_slider_q40 = 239024278, \
+        .phi_q28 = {-226512147, 51365286, -349657535, -228249227}, \
         .friction = { \
             .fs_q24 = 60397980, \
             .fc_q24 = 50331648, \
@@ -293,7 +385,7 @@
             .fc_recip_mantissa = 1431655765, \
             .fc_recip_shift = 56, \
         }, \
-        .inv_dt_q47 = 16000000, \
+        .inv_dt_q47 = 21333333, \
         .effects = { \
             .load_q24 = 0, \
             .slew_q24 = 0, \
@@ -309,17 +401,17 @@
             .piezo_damping_q16 = 0, \
             .pad2 = 0, \
         }, \
-        .contact_lag_q30 = 52060210, \
+        .contact_lag_q30 = 29283870, \
         .rod_w2dt2_q28 = 0, \
     }, \
     .cfg_mid = { \
-        .dt_q40 = 2199023, \
+        .dt_q40 = 3298535, \
         .piezo_gain_q48 = 12384899, \
         .friction_model = 1, \
-        .lag_q24 = 250045, \
-        .kick_rod_q40 = 999555915, \
-        .kick_slider_q40 = 79674747, \
-        .phi_q28 = {173509959, 234528950, -177389129, 170866179}, \
+        .lag_q24 = 166697, \
+        .kick_rod_q40 = 1499334099, \
+        .kick_slider_q40 = 119512139, \
+        .phi_q28 = {71708453, 196850994, -335004626, 68379881}, \
         .friction = { \
             .fs_q24 = 60397980, \
             .fc_q24 = 50331648, \
@@ -335,7 +427,7 @@
             .fc_recip_mantissa = 1431655765, \
             .fc_recip_shift = 56, \
         }, \
-        .inv_dt_q47 = 64000007, \
+        .inv_dt_q47 = 42666665, \
         .effects = { \
             .load_q24 = 0, \
             .slew_q24 = 0, \
@@ -351,28 +443,74 @@
             .piezo_damping_q16 = 0, \
             .pad2 = 0, \
         }, \
-        .contact_lag_q30 = 3253762, \
-        .rod_w2dt2_q28 = 203034772, \
+        .contact_lag_q30 = 7320968, \
+        .rod_w2dt2_q28 = 0, \
     }, \
-    .n = 8, \
+    .n = 4, \
     .v_rel_max_q28 = 402653, \
-    .ring_max_q40 = 440, \
-    .ring_max_2_q40 = 110, \
+    .ring_max_q40 = 330, \
+    .ring_max_2_q40 = 165, \
     .v_rel_mid_max_q28 = 1342177, \
-    .ring_mid_max_q40 = 440, \
+    .ring_mid_max_q40 = 660, \
     .compliance_q56 = 346430741, \
     .pad = 0, \
     .stick_n = 40, \
-    .stick_h_q40 = 43980480, \
-    .stick_inv_h_q47 = 3200000, \
+    .stick_h_q40 = 65970720, \
+    .stick_inv_h_q47 = 2133333, \
     .stick_omega_q47 = 55660268, \
     .stick_inv_omega_q40 = 2528509, \
-    .stick_lag_q30 = 800144, \
+    .stick_lag_q30 = 533429, \
     .stick_v_rel_max_q28 = 134218, \
-    .stick_ring_max_q40 = 2199, \
+    .stick_ring_max_q40 = 3299, \
     .stick_force_max_q24 = 5033165, \
     .stick_phi_shift = 26, \
-    .stick_phi_q = {4223122, -10548468, -957423, 43642792, 10548468, 5983063, 674387, -1623214, -19914402, -14027241, 35256988, -817795712, -3478773, -129387, 3133972, 24221820}, \
+    .stick_phi_q = {327581, 5054321, 312800, 41851632, -5054320, 258743, -82612, 3325, 6506247, 1718321, 7245377, -897045056, -3336000, 265, 3437673, -6222171}, \
+    .edge_parts = 4, \
+    .edge_limit_q16 = 223418, \
+    .edge_part_q30 = 268435456, \
+    .edge_pad = 0, \
+    .cfg_edge = { \
+        .dt_q40 = 412317, \
+        .piezo_gain_q48 = 12384899, \
+        .friction_model = 1, \
+        .lag_q24 = 1333573, \
+        .kick_rod_q40 = 187416819, \
+        .kick_slider_q40 = 14939022, \
+        .phi_q28 = {264876890, 266965146, -7098851, 264312623}, \
+        .friction = { \
+            .fs_q24 = 60397980, \
+            .fc_q24 = 50331648, \
+            .vs_q28 = 107374, \
+            .sigma0_n_per_m = 10000000, \
+            .sigma1_q16 = 5242880, \
+            .sigma2_q16 = 524288, \
+            .asymmetry_q30 = 0, \
+            .inv_vs_q45 = 327680557, \
+            .inv_sigma0_q47 = 14073749, \
+            .inv_fs_q48 = 4660338, \
+            .sat_length_q40 = 9499780, \
+            .fc_recip_mantissa = 1431655765, \
+            .fc_recip_shift = 56, \
+        }, \
+        .inv_dt_q47 = 341333218, \
+        .effects = { \
+            .load_q24 = 0, \
+            .slew_q24 = 0, \
+            .sensor_scale_q30 = 0, \
+            .hysteresis_alpha_q30 = 0, \
+            .hysteresis_width_q40 = 0, \
+            .pad = 0, \
+            .hysteresis_inv_width_q48 = 0, \
+            .base_kick_q40 = 0, \
+            .base_stiffness_n_per_m = 0, \
+            .base_damping_q16 = 0, \
+            .piezo_stiffness_n_per_m = 0, \
+            .piezo_damping_q16 = 0, \
+            .pad2 = 0, \
+        }, \
+        .contact_lag_q30 = 114390, \
+        .rod_w2dt2_q28 = 7137948, \
+    }, \
 }
 /* clang-format on */
 

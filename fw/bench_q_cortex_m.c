@@ -92,6 +92,7 @@ int main(void)
      * bench_q_config.h), LuGre Table I's 1 us */
     static const ss_actuator_config_q_t ls_cfg = SS_BENCH_Q_LS_CONFIG;
     static const ss_actuator_coarse_q_t coarse[2] = {SS_BENCH_Q_LS_COARSE, SS_BENCH_Q_LUGRE_COARSE};
+    uint64_t player_15_ns = 0;
     for (int32_t m = 0; m < 2; ++m) {
         ss_actuator_config_q_t cfg = (m == SS_FRICTION_Q_LS) ? ls_cfg : ss_actuator_config_table1_q();
         cfg.friction_model = m;
@@ -145,12 +146,18 @@ int main(void)
             ss_cortex_m_exit(1);
         }
         coarse_bench(link, names[m], &cfg, &coarse[m], &w, t1 - t0, coarse[m].n);
-        if (m == SS_FRICTION_Q_LUGRE) {
-            /* and stick steps once the contact has stopped ringing, rows every stick_n steps */
-            static const ss_actuator_coarse_q_t stick = SS_BENCH_Q_LUGRE_STICK;
-            coarse_bench(link, names[m], &cfg, &stick, &w, t1 - t0, stick.stick_n);
+        if (m == SS_FRICTION_Q_LS) {
+            player_15_ns = t1 - t0; /* the player at 1.5 us */
         }
     }
+    /* LuGre with stick steps once the contact has stopped ringing and its fine steps on a fast edge
+     * in parts, at LS's 1.5 us with coarse steps of 4, rows every stick_n steps (bench_q_config.h) */
+    static const ss_actuator_coarse_q_t stick = SS_BENCH_Q_LUGRE_STICK;
+    ss_actuator_config_q_t lugre_15 = ls_cfg;
+    lugre_15.friction_model = SS_FRICTION_Q_LUGRE;
+    ss_waveform_config_q_t w = ss_waveform_paper_q();
+    w.cycles = 1000u;
+    coarse_bench(link, names[SS_FRICTION_Q_LUGRE], &lugre_15, &stick, &w, player_15_ns, stick.stick_n);
     ss_cortex_m_exit(0);
     return 0;
 }

@@ -162,6 +162,7 @@ class ActuatorCoarse(C.Structure):
         ("stick_n", C.c_uint32),
         ("stick_dt_s", C.c_float),
         ("stick_omega_per_s", C.c_float),
+        ("edge_parts", C.c_uint32),
         ("stick_phi", C.c_float * 16),
     ]
 
@@ -254,6 +255,11 @@ class ActuatorCoarseQ(C.Structure):
         ("stick_force_max_q24", C.c_int32),
         ("stick_phi_shift", C.c_int32),
         ("stick_phi_q", C.c_int32 * 16),
+        ("edge_parts", C.c_uint32),
+        ("edge_limit_q16", C.c_int32),
+        ("edge_part_q30", C.c_int32),
+        ("edge_pad", C.c_int32),
+        ("cfg_edge", ActuatorConfigQ),
     ]
 
 

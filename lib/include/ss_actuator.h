@@ -134,6 +134,7 @@ typedef struct {
     uint32_t stick_n;             /* steps of dt in a stick step, 0: none (ss_actuator_coarse_stick_f32) */
     float stick_dt_s;             /* stick_n dt */
     float stick_omega_per_s;      /* the rod's rate on the stack, sqrt(k / M_R) */
+    uint32_t edge_parts;          /* with stick steps: a fine step on a fast edge in this many parts */
     float stick_phi[16];          /* the stuck contact's linear flow over stick_n dt, row-major, on the
                                    * deviation from the ramp's steady state of (e, v_rod / omega, z,
                                    * v_slider / omega): e the rod off the piezo's strain, z the bristle */
@@ -162,15 +163,21 @@ void ss_actuator_coarse_kicked_bounds_f32(ss_actuator_coarse_f32_t *co, int32_t 
  * one 4 x 4 matrix, made once (ss_actuator_coarse_stick_f32); the step is that flow about the
  * ramp's steady state, then LuGre's force at the state it ends in. It is taken where stick_n steps
  * fit before the run's next row (rows every stick_n steps or a multiple), the drive is straight
- * over them, |v_rel| and the rod's ring are within the bounds below and |F| < 0.1 Fc. On the
- * paper's drive at 1 us with n = 8 and stick_n = 40: 0.221 model steps a microsecond against the
- * coarse steps' 0.275 (rows every 8; 0.292 on the same rows), worst cycle over issue 17's drive
- * matrix 0.085 % (bench/step_study.py --coarse 8 --stick 40). */
+ * over them, |v_rel| and the rod's ring are within the bounds below and |F| < 0.1 Fc. With them
+ * LuGre's step can be LS's 1.5 us (n = 4, stick_n = 40; its fine steps on a fast edge in parts,
+ * below): 0.154 model steps a microsecond on the paper's drive against the coarse steps' 0.275 at
+ * 1 us, worst cycle over issue 17's drive matrix 0.056 % (bench/step_study.py --steps-us 1.5
+ * --coarse 4 --stick 40; at 1 us with n = 8, 0.221 and 0.091 %). */
 #define SS_COARSE_STICK_V_REL_MAX_M_PER_S 5e-4f
 #define SS_COARSE_STICK_V_RING_MAX_M_PER_S 5e-5f
 #define SS_COARSE_STICK_FORCE_SHARE 0.1f
 /* A load at most this share of Fc (it holds the bristle off 0 all through the stick) */
 #define SS_COARSE_STICK_LOAD_SHARE 0.01f
+/* A run with stick steps takes a fine step that moves the piezo faster than 0.1 m/s (a 15 us fall,
+ * not the paper's 100 us one) in this many parts, as GMS's fine step does: what lets LuGre's step
+ * be 1.5 us there (bench/step_study.py --steps-us 1.5 --coarse 4 --stick 40: 0.056 % worst over
+ * the drive matrix, 0.154 model steps a microsecond on the paper's drive). */
+#define SS_COARSE_STICK_EDGE_PARTS 4u
 
 /* Turn co's stick steps on with stick_n steps of dt each ((co->n, 256], stick_n dt <= 1 ms), or off
  * with stick_n 0, for cfg (the config co was made for). SS_ERR_RANGE with bad_field

@@ -113,17 +113,22 @@ typedef struct {
     int32_t pad;                    /* zero; keeps the size a multiple of 8 on every target */
     /* Stick steps (LuGre), as the float family's (ss_actuator_coarse_stick_f32): made by
      * ss_actuator_coarse_stick_to_q (ss_convert_q.h), all 0 when off */
-    uint32_t stick_n;            /* steps of dt in a stick step, 0: none */
-    int32_t stick_h_q40;         /* stick_n dt, s at 2^-40 */
-    int32_t stick_inv_h_q47;     /* 1 / (stick_n dt), 1/s at 2^-7 */
-    int32_t stick_omega_q47;     /* the rod's rate w = sqrt(k / M_R), 1/s at 2^-7 */
-    int32_t stick_inv_omega_q40; /* 1 / w, s at 2^-40: a velocity over w is a length */
-    int32_t stick_lag_q30;       /* c / (k stick_n dt), Q1.30: the rod's lag behind the ramp */
-    int32_t stick_v_rel_max_q28; /* the contact is quiet: |v_rod - v_slider| below this */
-    int32_t stick_ring_max_q40;  /* ... the rod too: its travel off the strain's over stick_n dt */
-    int32_t stick_force_max_q24; /* ... and |F| below this (SS_COARSE_STICK_FORCE_SHARE Fc) */
-    int32_t stick_phi_shift;     /* stick_phi_q's fraction bits: |entries| <= 2^30 */
-    int32_t stick_phi_q[16];     /* the float family's stick_phi, row-major, at 2^-stick_phi_shift */
+    uint32_t stick_n;                /* steps of dt in a stick step, 0: none */
+    int32_t stick_h_q40;             /* stick_n dt, s at 2^-40 */
+    int32_t stick_inv_h_q47;         /* 1 / (stick_n dt), 1/s at 2^-7 */
+    int32_t stick_omega_q47;         /* the rod's rate w = sqrt(k / M_R), 1/s at 2^-7 */
+    int32_t stick_inv_omega_q40;     /* 1 / w, s at 2^-40: a velocity over w is a length */
+    int32_t stick_lag_q30;           /* c / (k stick_n dt), Q1.30: the rod's lag behind the ramp */
+    int32_t stick_v_rel_max_q28;     /* the contact is quiet: |v_rod - v_slider| below this */
+    int32_t stick_ring_max_q40;      /* ... the rod too: its travel off the strain's over stick_n dt */
+    int32_t stick_force_max_q24;     /* ... and |F| below this (SS_COARSE_STICK_FORCE_SHARE Fc) */
+    int32_t stick_phi_shift;         /* stick_phi_q's fraction bits: |entries| <= 2^30 */
+    int32_t stick_phi_q[16];         /* the float family's stick_phi, row-major, at 2^-stick_phi_shift */
+    uint32_t edge_parts;             /* with stick steps: a fine step on a fast edge in this many parts, */
+    int32_t edge_limit_q16;          /* ... one whose drive changes by more than this in dt (0.1 m/s) */
+    int32_t edge_part_q30;           /* ... 1 / edge_parts in Q30: each part's share of the step */
+    int32_t edge_pad;                /* zero */
+    ss_actuator_config_q_t cfg_edge; /* ... each part's config: dt / edge_parts */
 } ss_actuator_coarse_q_t;
 
 /* Columns a run may record (any pointer may be NULL); formats as in the state. */

@@ -528,14 +528,11 @@ SS_FORCE_INLINE ss_status_t step_over(const ss_actuator_config_f32_t *cfg, ss_ac
 #endif
 #define SS_GMS_EDGE_V_M_PER_S 0.1f
 
-/* Does the step's drive (to drive_v, bending at corner_frac to corner_v) move the piezo fast? */
-SS_FORCE_INLINE int gms_fast_edge(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
-                                  float drive_v, float corner_frac, float corner_v)
+/* Does the step's drive (to drive_v, bending at corner_frac to corner_v) move the piezo faster
+ * than SS_GMS_EDGE_V_M_PER_S? */
+SS_FORCE_INLINE int fast_edge(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
+                              float drive_v, float corner_frac, float corner_v)
 {
-    if (SS_GMS_EDGE_SUBSTEPS < 2 || cfg->friction_model != SS_FRICTION_GMS ||
-        cfg->friction.sigma1_ns_per_m == 0.0f) {
-        return 0;
-    }
     const float limit_v = SS_GMS_EDGE_V_M_PER_S * cfg->dt_s / fabsf(cfg->piezo_gain_m_per_v);
     if (corner_frac > 0.0f) {
         return fabsf(corner_v - st->drive_v) > limit_v * corner_frac ||
@@ -544,17 +541,25 @@ SS_FORCE_INLINE int gms_fast_edge(const ss_actuator_config_f32_t *cfg, const ss_
     return fabsf(drive_v - st->drive_v) > limit_v;
 }
 
+/* ... for a GMS contact with micro-damping, whose fine step takes such steps in sub-steps */
+SS_FORCE_INLINE int gms_fast_edge(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
+                                  float drive_v, float corner_frac, float corner_v)
+{
+    return SS_GMS_EDGE_SUBSTEPS >= 2 && cfg->friction_model == SS_FRICTION_GMS &&
+           cfg->friction.sigma1_ns_per_m != 0.0f && fast_edge(cfg, st, drive_v, corner_frac, corner_v);
+}
+
 /* A step of cfg's dt in SS_GMS_EDGE_SUBSTEPS sub-steps along the same drive (its corner in the
  * sub-step it falls in); counted as one step. */
 static ss_status_t step_in_parts(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
-                                 float drive_v, float corner_frac, float corner_v)
+                                 float drive_v, float corner_frac, float corner_v, int parts)
 {
-    const float n = (float)SS_GMS_EDGE_SUBSTEPS;
+    const float n = (float)parts;
     const float sub_dt = cfg->dt_s / n;
     float phi[4];
     rod_flow(cfg, sub_dt, phi);
     const float u0 = st->drive_v;
-    for (int j = 0; j < SS_GMS_EDGE_SUBSTEPS; ++j) {
+    for (int j = 0; j < parts; ++j) {
         const float a = (float)j / n;
         const float b = (float)(j + 1) / n;
         /* the drive at fraction b of the step, and the corner if it lies inside (a, b) */
@@ -570,7 +575,7 @@ static ss_status_t step_in_parts(const ss_actuator_config_f32_t *cfg, ss_actuato
                 frac = (corner_frac - a) * n;
             }
         }
-        if (j == SS_GMS_EDGE_SUBSTEPS - 1) {
+        if (j == parts - 1) {
             u_b = drive_v; /* exactly the step's end */
         }
         const ss_status_t status =
@@ -579,7 +584,7 @@ static ss_status_t step_in_parts(const ss_actuator_config_f32_t *cfg, ss_actuato
             return status;
         }
     }
-    st->steps -= (uint32_t)(SS_GMS_EDGE_SUBSTEPS - 1);
+    st->steps -= (uint32_t)(parts - 1);
     return SS_OK;
 }
 
@@ -591,7 +596,7 @@ static ss_status_t step(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f
         return SS_ERR_NULL;
     }
     if (gms_fast_edge(cfg, st, drive_v, corner_frac, corner_v)) {
-        return step_in_parts(cfg, st, drive_v, corner_frac, corner_v);
+        return step_in_parts(cfg, st, drive_v, corner_frac, corner_v, SS_GMS_EDGE_SUBSTEPS);
     }
     return step_over(cfg, st, st->phi, cfg->dt_s, drive_v, corner_frac, corner_v);
 }
@@ -641,6 +646,21 @@ ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_ac
     return wave_step(cfg, st, wave, wst);
 }
 
+/* A fine step of a run with stick steps: on a fast edge in co->edge_parts sub-steps (LuGre,
+ * ss_actuator.h), else wave_step's. Out of line: the stick run's own loop. */
+static ss_status_t wave_step_edges(const ss_actuator_config_f32_t *cfg, const ss_actuator_coarse_f32_t *co,
+                                   ss_actuator_state_f32_t *st, const ss_waveform_config_f32_t *wave,
+                                   ss_waveform_state_f32_t *wst)
+{
+    float frac;
+    float corner_v;
+    const float drive_v = wave_next(wave, wst, &frac, &corner_v);
+    if (co->edge_parts >= 2u && fast_edge(cfg, st, drive_v, frac, corner_v)) {
+        return step_in_parts(cfg, st, drive_v, frac, corner_v, (int)co->edge_parts);
+    }
+    return step(cfg, st, drive_v, frac, corner_v);
+}
+
 ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uint32_t n,
                                         ss_actuator_coarse_f32_t *co, const char **bad_field)
 {
@@ -682,6 +702,7 @@ ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uin
     co->stick_n = 0u; /* off until ss_actuator_coarse_stick_f32 */
     co->stick_dt_s = 0.0f;
     co->stick_omega_per_s = 0.0f;
+    co->edge_parts = 0u;
     for (int i = 0; i < 16; ++i) {
         co->stick_phi[i] = 0.0f;
     }
@@ -941,7 +962,8 @@ SS_FORCE_INLINE ss_status_t coarse_step(const ss_actuator_config_f32_t *cfg,
 {
     const uint32_t m = coarse_allowed(cfg, co, st, wave, wst, max_steps);
     if (m == 0u) {
-        const ss_status_t status = wave_step(cfg, st, wave, wst);
+        const ss_status_t status =
+            sticks ? wave_step_edges(cfg, co, st, wave, wst) : wave_step(cfg, st, wave, wst);
         *taken = (status == SS_OK) ? 1u : 0u;
         return status;
     }
@@ -1130,7 +1152,7 @@ SS_FORCE_INLINE ss_status_t lane_start_step(lane_t *lane, carry_t *c, int *whole
     const float drive_v = wave_next(j->wave, j->wst, &frac, &corner_v);
     if (gms_fast_edge(j->cfg, j->st, drive_v, frac, corner_v)) {
         *whole = 1; /* taken here whole, in sub-steps (a non-finite drive fails in the first) */
-        return step_in_parts(j->cfg, j->st, drive_v, frac, corner_v);
+        return step_in_parts(j->cfg, j->st, drive_v, frac, corner_v, SS_GMS_EDGE_SUBSTEPS);
     }
     return step_start(j->cfg, j->st, j->st->phi, j->cfg->dt_s, drive_v, frac, corner_v, c);
 }

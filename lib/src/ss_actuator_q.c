@@ -762,6 +762,73 @@ SS_FORCE_INLINE void stick_step_q(const ss_actuator_config_q_t *cfg, const ss_ac
     st->steps++;
 }
 
+/* A fine step of a run with stick steps, as wave_step_edges of ss_actuator_f32.c: one whose drive
+ * changes by more than edge_limit_q16 (0.1 m/s of strain; on the corner's pieces in proportion)
+ * in co->edge_parts steps of cfg_edge, the drive linear in between (and the corner in the part it
+ * falls in), else the fine step. */
+/* num / den in Q30, 0 <= num <= den <= 2^30, den > 0: by den's reciprocal, no division */
+SS_FORCE_INLINE int64_t share_q30(int64_t num, int64_t den)
+{
+    int sh = 0;
+    const int32_t m = ss_reciprocal_mantissa_q((uint32_t)den, &sh);
+    return ss_mul_recip_q((int32_t)num, m, sh - 30);
+}
+
+SS_NOINLINE ss_status_t wave_step_edges_q(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
+                                          ss_actuator_state_q_t *st, const ss_waveform_config_q_t *wave,
+                                          ss_waveform_state_q_t *wst)
+{
+    int32_t frac = 0;
+    int32_t corner = 0;
+    if (!ss_waveform_corner_q(wave, wst, &frac, &corner)) {
+        frac = 0;
+    }
+    ss_waveform_advance_q(wst);
+    const int32_t drive = ss_waveform_value_q(wave, wst);
+    const int64_t u0 = st->drive_q16;
+    /* the drive's change over the step, or over each piece of a corner against its share of the
+     * limit (changes and limit below 2^31, shares below 2^30: within 64 bits) */
+    const int64_t limit = co->edge_limit_q16;
+    const int fast = (frac > 0)
+                         ? (ss_abs64((int64_t)corner - u0) * SS_Q30_ONE > limit * frac ||
+                            ss_abs64((int64_t)drive - corner) * SS_Q30_ONE > limit * (SS_Q30_ONE - frac))
+                         : ss_abs64((int64_t)drive - u0) > limit;
+    if (co->edge_parts < 2u || !fast) {
+        return step(cfg, st, drive, frac, corner);
+    }
+    const int64_t part = co->edge_part_q30;
+    const int64_t n = co->edge_parts;
+    for (int64_t j = 0; j < n; ++j) {
+        /* the part's ends a, b (Q30 of the step) and the drive at b, linear on each piece */
+        const int64_t a = j * part;
+        const int64_t b = a + part;
+        int64_t u_b;
+        int32_t part_frac = 0;
+        if (j == n - 1) {
+            u_b = drive; /* exactly the step's end */
+        } else if (frac <= 0) {
+            u_b = u0 + ss_shr_round(((int64_t)drive - u0) * b, 30);
+        } else if (b <= frac) {
+            u_b = u0 + ss_shr_round(((int64_t)corner - u0) * share_q30(b, frac), 30);
+        } else {
+            u_b =
+                corner + ss_shr_round(((int64_t)drive - corner) * share_q30(b - frac, SS_Q30_ONE - frac), 30);
+        }
+        if (frac > a && frac < b) {
+            part_frac = (int32_t)((frac - a) * n); /* the corner's place in the part, Q30 */
+        }
+        /* the public steps, out of line: one inlined copy of the step here (the fast path's) */
+        const ss_status_t status =
+            (part_frac != 0) ? ss_actuator_step_corner_q(&co->cfg_edge, st, ss_sat32(u_b), part_frac, corner)
+                             : ss_actuator_step_q(&co->cfg_edge, st, ss_sat32(u_b));
+        if (status != SS_OK) {
+            return status;
+        }
+    }
+    st->steps -= (uint32_t)(n - 1);
+    return SS_OK;
+}
+
 /* A stick step where one may be taken (the player then at its end): whether it was. Out of line: a
  * few steps in a period take it, and inline it slowed the coarse loop of both laws. */
 SS_NOINLINE int stick_try_q(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
@@ -818,7 +885,8 @@ ss_status_t ss_actuator_run_coarse_q(const ss_actuator_config_q_t *cfg, const ss
                 }
             }
         } else {
-            status = ss_actuator_wave_step_q(cfg, st, wave, wst);
+            status = (co != NULL && co->stick_n != 0u) ? wave_step_edges_q(cfg, co, st, wave, wst)
+                                                       : ss_actuator_wave_step_q(cfg, st, wave, wst);
         }
         if (status != SS_OK) {
             break;

@@ -116,6 +116,7 @@ ss_status_t ss_actuator_coarse_stick_f32(const ss_actuator_config_f32_t *cfg, ui
         co->stick_n = 0u;
         co->stick_dt_s = 0.0f;
         co->stick_omega_per_s = 0.0f;
+        co->edge_parts = 0u;
         return SS_OK;
     }
     if (cfg->friction_model != SS_FRICTION_LUGRE) {
@@ -181,6 +182,7 @@ ss_status_t ss_actuator_coarse_stick_f32(const ss_actuator_config_f32_t *cfg, ui
         co->stick_phi[i] = phi[i];
     }
     co->stick_omega_per_s = (float)w;
+    co->edge_parts = SS_COARSE_STICK_EDGE_PARTS;
     co->stick_n = stick_n;
     co->stick_dt_s = h;
     return SS_OK;

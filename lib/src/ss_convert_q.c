@@ -2,6 +2,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 /* round(x) as an integer if it lies in [lo, hi], else not ok (NaN fails the comparisons). */
 static int to_int(double x, double lo, double hi, int64_t *out)
@@ -360,6 +361,11 @@ ss_status_t ss_actuator_coarse_stick_to_q(const ss_actuator_config_f32_t *in, ui
     for (int i = 0; i < 16; ++i) {
         q.stick_phi_q[i] = 0;
     }
+    q.edge_parts = 0u;
+    q.edge_limit_q16 = 0;
+    q.edge_part_q30 = 0;
+    q.edge_pad = 0;
+    memset(&q.cfg_edge, 0, sizeof q.cfg_edge);
     if (stick_n != 0u) {
         const double h = (double)stick_n * (double)in->dt_s;
         const double w = (double)co.stick_omega_per_s;
@@ -396,10 +402,23 @@ ss_status_t ss_actuator_coarse_stick_to_q(const ss_actuator_config_f32_t *in, ui
         for (int i = 0; ok && i < 16; ++i) {
             ok = fits_i32((double)co.stick_phi[i] * ldexp(1.0, shift), &q.stick_phi_q[i]);
         }
+        /* the fine steps on a fast edge, in co.edge_parts parts of their own config (the float
+         * family's speed, 0.1 m/s of strain, as a drive change in a step of dt) */
+        ss_actuator_config_f32_t part = *in;
+        part.dt_s = in->dt_s / (float)co.edge_parts;
+        const ss_status_t edge = ss_actuator_config_to_q(&part, &q.cfg_edge, bad);
+        if (edge != SS_OK) {
+            return edge;
+        }
+        ok = ok && fits_i32(0.1 * (double)in->dt_s / fabs((double)in->piezo_gain_m_per_v) *
+                                SS_QF_ONE(SS_QF_VOLTAGE),
+                            &q.edge_limit_q16);
         if (!ok || shift < 16) {
             *bad = "coarse_stick_n";
             return SS_ERR_RANGE;
         }
+        q.edge_parts = co.edge_parts;
+        q.edge_part_q30 = (int32_t)(((int32_t)1 << SS_QF_RATIO) / (int32_t)co.edge_parts);
         q.stick_phi_shift = shift;
         q.stick_n = stick_n;
     }

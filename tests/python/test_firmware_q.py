@@ -102,12 +102,14 @@ def test_q_coarse_steps_on_the_target_are_the_hosts(preset):
     lines = re.findall(
         r"bench q (\w+) coarse (\d+)(?: stick (\d+))?: (\d+) model steps .*slider at (-?\d+)\n", out
     )
-    # LS's and LuGre's coarse steps, and LuGre's with stick steps (rows every stick_n)
+    # LS's and LuGre's coarse steps, and LuGre's with stick steps at LS's 1.5 us (rows every
+    # stick_n)
     runs = [(law, stick) for law, _, stick, _, _ in lines]
     assert runs == [("ls", ""), ("lugre", ""), ("lugre", "40")]
     assert "MODEL ERROR" not in out
     for law, n, stick, model_steps, slider_q40 in lines:
-        dt_s, cycles = (1.5e-6, 15) if law == "ls" else (1e-6, 10)  # 20 000 steps of each
+        # 20 000 steps of each
+        dt_s, cycles = (1.5e-6, 15) if law == "ls" or stick else (1e-6, 10)
         rows = int(stick or n)
         r = simulate(
             Sawtooth(cycles=cycles),
