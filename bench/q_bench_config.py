@@ -36,6 +36,17 @@ def stick_q(cfg, n: int, stick_n: int):
     return co
 
 
+def fast_edge_wave():
+    """The q player's 1 kHz sawtooth with a 15 us fall (its steps at 1.5 us in parts), as the
+    host's simulate() converts it (ss_waveform_config_to_q)."""
+    from stickslip.model import Sawtooth
+
+    w = Sawtooth(frequency_hz=1000.0, cycles=1000).with_fall_time(15e-6).config()
+    wq = N.WaveformConfigQ()
+    N.check(N.lib.ss_waveform_config_to_q(C.byref(w), C.byref(wq), None), "waveform")
+    return wq
+
+
 def header() -> str:
     cfg = N.table1_actuator()
     cfg.dt_s = C.c_float(LS_STEP_S).value
@@ -67,6 +78,10 @@ def header() -> str:
             f"/* Table I, LuGre, dt 1.5 us: coarse steps of {STICK_COARSE_N}, stick steps of "
             f"{STICK_N} (ss_actuator_coarse_stick_to_q) */",
             *N.c_define("SS_BENCH_Q_LUGRE_STICK", stick_q(lugre_15, STICK_COARSE_N, STICK_N)),
+            "",
+            "/* 1 kHz with a 15 us fall, 1 000 periods (ss_waveform_config_to_q): the stick run's "
+            "fast edges in parts */",
+            *N.c_define("SS_BENCH_Q_FAST_EDGE_WAVE", fast_edge_wave()),
             "/* clang-format on */",
             "",
             "#endif /* SS_BENCH_Q_CONFIG_H */",

@@ -512,6 +512,17 @@
         .rod_w2dt2_q28 = 7137948, \
     }, \
 }
+
+/* 1 kHz with a 15 us fall, 1 000 periods (ss_waveform_config_to_q): the stick run's fast edges in parts */
+#define SS_BENCH_Q_FAST_EDGE_WAVE \
+{ \
+    .frequency_mhz = 1000000, \
+    .amplitude_q16 = 6553600, \
+    .offset_q16 = 0, \
+    .rise_q32 = 4230542848, \
+    .direction = 1, \
+    .cycles = 1000, \
+}
 /* clang-format on */
 
 #endif /* SS_BENCH_Q_CONFIG_H */

@@ -158,6 +158,23 @@ int main(void)
     ss_waveform_config_q_t w = ss_waveform_paper_q();
     w.cycles = 1000u;
     coarse_bench(link, names[SS_FRICTION_Q_LUGRE], &lugre_15, &stick, &w, player_15_ns, stick.stick_n);
+    /* ... and on a 15 us fall at 1 kHz, whose fine steps on the fall are taken in parts (the
+     * player's cost measured again: its own waveform) */
+    static const ss_waveform_config_q_t fast = SS_BENCH_Q_FAST_EDGE_WAVE;
+    ss_waveform_state_q_t ws;
+    volatile int32_t sink = 0;
+    int ok = ss_waveform_init_q(&fast, lugre_15.dt_q40, &ws) == SS_OK;
+    const uint64_t t0 = link->time_ns(link->ctx);
+    for (uint32_t i = 0; i < BENCH_STEPS; ++i) {
+        ss_waveform_advance_q(&ws);
+        sink = ss_waveform_value_q(&fast, &ws);
+    }
+    const uint64_t t1 = link->time_ns(link->ctx);
+    (void)sink;
+    if (!ok) {
+        ss_cortex_m_exit(1);
+    }
+    coarse_bench(link, "lugre fall 15", &lugre_15, &stick, &fast, t1 - t0, stick.stick_n);
     ss_cortex_m_exit(0);
     return 0;
 }

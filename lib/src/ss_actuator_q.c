@@ -787,7 +787,7 @@ SS_NOINLINE ss_status_t wave_step_edges_q(const ss_actuator_config_q_t *cfg, con
     const int32_t drive = ss_waveform_value_q(wave, wst);
     const int64_t u0 = st->drive_q16;
     /* the drive's change over the step, or over each piece of a corner against its share of the
-     * limit (changes and limit below 2^31, shares below 2^30: within 64 bits) */
+     * limit (changes below 2^32, the limit below 2^31, shares within 2^30: within 64 bits) */
     const int64_t limit = co->edge_limit_q16;
     const int fast = (frac > 0)
                          ? (ss_abs64((int64_t)corner - u0) * SS_Q30_ONE > limit * frac ||

@@ -109,6 +109,20 @@ static void test_refuses_effects_and_lengths(void **unused)
     assert_int_equal(ss_actuator_coarse_stick_to_q(&c, STICK, &q, &bad), SS_OK);
     assert_int_equal(q.stick_n, STICK);
     assert_true(q.stick_phi_shift >= 16 && q.stick_phi_shift <= 30);
+    /* the fast edge's parts: four of dt / 4 (0.25 us at 2^-40), the limit 0.1 m/s of strain over
+     * 1 us at 44 nm/V, 2.27 V at 2^-16 */
+    assert_int_equal(q.edge_parts, SS_COARSE_STICK_EDGE_PARTS);
+    assert_int_equal(q.edge_part_q30, 1 << 28);
+    assert_int_equal(q.cfg_edge.dt_q40, 274878);
+    assert_int_equal(q.edge_limit_q16, 148945);
+    /* a step whose parts do not fit the q formats (0.2 us: 50 ns parts) takes its fast edges
+     * whole in q, as before the parts, and its stick steps still */
+    e = c;
+    e.dt_s = 0.2e-6f;
+    assert_int_equal(ss_actuator_coarse_to_q(&e, COARSE, &q, &bad), SS_OK);
+    assert_int_equal(ss_actuator_coarse_stick_to_q(&e, STICK, &q, &bad), SS_OK);
+    assert_int_equal(q.stick_n, STICK);
+    assert_int_equal(q.edge_parts, 0u);
     e = c;
     e.effects.slew_v_per_s = 1e7f;
     assert_int_equal(ss_actuator_coarse_stick_to_q(&e, STICK, &q, &bad), SS_ERR_RANGE);
@@ -382,7 +396,8 @@ static void test_one_and_a_half_us(void **unused)
     (void)unused;
     at_one_and_a_half_us(ss_waveform_paper_f32(), 8u, 1e-3); /* measured 0.056 % */
     /* a 15 us fall at 1 kHz, both ways: ten steps of 1.5 us, each in four parts (measured 0.023
-     * and 0.045 %; without the parts the 15 us falls lose up to 0.13 % at 1.5 us) */
+     * and 0.045 %; without the parts 0.057 and 0.066 %: the parts are margin, which the q-against-
+     * float test in tests/python/test_model_api.py holds to their measured agreement) */
     ss_waveform_config_f32_t w = ss_waveform_sawtooth_f32(1000.0f, 100.0f, 0.0f, 0.985f, 1, 10u);
     at_one_and_a_half_us(w, 10u, 1e-3);
     w.direction = -1;

@@ -100,19 +100,25 @@ def test_q_coarse_steps_on_the_target_are_the_hosts(preset):
     cmd += ["-semihosting-config", "enable=on,target=native", "-serial", "stdio", "-kernel"]
     out = subprocess.run([*cmd, str(elf)], capture_output=True, text=True, timeout=120).stdout
     lines = re.findall(
-        r"bench q (\w+) coarse (\d+)(?: stick (\d+))?: (\d+) model steps .*slider at (-?\d+)\n", out
+        r"bench q (\w+)(?: fall (\d+))? coarse (\d+)(?: stick (\d+))?: (\d+) model steps "
+        r".*slider at (-?\d+)\n",
+        out,
     )
     # LS's and LuGre's coarse steps, and LuGre's with stick steps at LS's 1.5 us (rows every
-    # stick_n)
-    runs = [(law, stick) for law, _, stick, _, _ in lines]
-    assert runs == [("ls", ""), ("lugre", ""), ("lugre", "40")]
+    # stick_n), on the paper's drive and on a 15 us fall at 1 kHz, whose fall's steps are taken in
+    # parts (wave_step_edges_q on the target)
+    runs = [(law, fall, stick) for law, fall, _, stick, _, _ in lines]
+    assert runs == [("ls", "", ""), ("lugre", "", ""), ("lugre", "", "40"), ("lugre", "15", "40")]
     assert "MODEL ERROR" not in out
-    for law, n, stick, model_steps, slider_q40 in lines:
+    for law, fall, n, stick, model_steps, slider_q40 in lines:
         # 20 000 steps of each
         dt_s, cycles = (1.5e-6, 15) if law == "ls" or stick else (1e-6, 10)
+        w = Sawtooth(cycles=cycles)
+        if fall:
+            w = Sawtooth(frequency_hz=1000.0, cycles=30).with_fall_time(15e-6)
         rows = int(stick or n)
         r = simulate(
-            Sawtooth(cycles=cycles),
+            w,
             model=law,
             dt_s=dt_s,
             decimation=rows,
