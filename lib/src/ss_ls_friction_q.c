@@ -15,14 +15,14 @@ static uint64_t exponent_fs_q32(const ss_friction_config_q_t *cfg, int64_t dx_q4
     return (uint64_t)ss_mul_shr_round_wide(num, cfg->inv_fs_q48, 32 + halves);
 }
 
-/* sigma0 |dx| / den (den a force at 2^-24 N, > 0) as the Q32 exponent of ss_exp_neg_q32_q30, by
- * den's reciprocal (no division while sigma0 |dx| < 2^49). */
+/* sigma0 |dx| / g (g a Stribeck level at 2^-24 N, > 0) as the Q32 exponent of ss_exp_neg_q32_q30,
+ * by g's reciprocal (no division while sigma0 |dx| < 2^49; Fc's from the config in gross slip). */
 static uint64_t exponent_q32(const ss_friction_config_q_t *cfg, int64_t dx_q40, int64_t den_q24)
 {
     /* |dx| < 2^32 and sigma0 < 2^31: the product fits */
     const uint64_t num = ss_mul_u64_u32((uint64_t)ss_abs64(dx_q40), (uint32_t)cfg->sigma0_n_per_m);
     int sh = 0;
-    const int32_t m = ss_reciprocal_mantissa_q((uint32_t)den_q24, &sh);
+    const int32_t m = ss_stribeck_recip_q(cfg, den_q24, &sh);
     return ss_ratio_x65536_recip(num, (uint64_t)den_q24, m, sh);
 }
 
