@@ -722,6 +722,24 @@ void ss_actuator_coarse_kicked_bounds_f32(ss_actuator_coarse_f32_t *co, int32_t 
         ls ? SS_COARSE_KICKED_LS_V_RING_MID_MAX_M_PER_S : SS_COARSE_V_RING_MID_MAX_M_PER_S;
 }
 
+/* The rod's ring: its velocity off the piezo's ideal rate (which the slider follows in a stick) */
+SS_FORCE_INLINE float rod_ring(const ss_actuator_config_f32_t *cfg, const ss_actuator_state_f32_t *st,
+                               const ss_waveform_config_f32_t *wave, const ss_waveform_state_f32_t *wst)
+{
+    return fabsf(st->v_rod_m_per_s - cfg->piezo_gain_m_per_v * ss_waveform_slope_f32(wave, wst));
+}
+
+/* The player m steps on (*w, from *wst) and the drive there */
+SS_FORCE_INLINE float drive_after(const ss_waveform_config_f32_t *wave, const ss_waveform_state_f32_t *wst,
+                                  uint32_t m, ss_waveform_state_f32_t *w)
+{
+    *w = *wst;
+    for (uint32_t k = 0; k < m; ++k) {
+        ss_waveform_advance_f32(w);
+    }
+    return ss_waveform_value_f32(wave, w);
+}
+
 /* The coarse step that may be taken, in steps of dt, or 0: m = min(co->n, max_steps) >= 2 where the
  * contact sticks (|v_rel| within v_rel_max), the rod is quiet (its velocity off the piezo's ideal
  * rate, which the slider follows in stick, within v_ring_max) and the drive is straight over the m
@@ -739,7 +757,7 @@ SS_FORCE_INLINE uint32_t coarse_allowed(const ss_actuator_config_f32_t *cfg,
     if (!(v_rel < co->v_rel_max_m_per_s || v_rel < co->v_rel_mid_max_m_per_s)) {
         return 0u;
     }
-    const float ring = fabsf(st->v_rod_m_per_s - cfg->piezo_gain_m_per_v * ss_waveform_slope_f32(wave, wst));
+    const float ring = rod_ring(cfg, st, wave, wst);
     if (v_rel < co->v_rel_max_m_per_s && ring < co->v_ring_max_m_per_s) {
         const uint32_t m = (co->n < max_steps) ? co->n : max_steps;
         return ss_waveform_straight_f32(wave, wst, m) ? m : 0u;
@@ -880,8 +898,8 @@ SS_FORCE_INLINE int stick_allowed(const ss_actuator_config_f32_t *cfg, const ss_
         !(fabsf(st->force_n) < SS_COARSE_STICK_FORCE_SHARE * cfg->friction.fc_n)) {
         return 0;
     }
-    const float ring = fabsf(st->v_rod_m_per_s - cfg->piezo_gain_m_per_v * ss_waveform_slope_f32(wave, wst));
-    return ring < SS_COARSE_STICK_V_RING_MAX_M_PER_S && ss_waveform_straight_f32(wave, wst, co->stick_n);
+    return rod_ring(cfg, st, wave, wst) < SS_COARSE_STICK_V_RING_MAX_M_PER_S &&
+           ss_waveform_straight_f32(wave, wst, co->stick_n);
 }
 
 /* A stick step to drive_v at its end: the linear flow (co->stick_phi) of the deviation from the
@@ -938,11 +956,8 @@ SS_NOINLINE uint32_t stick_try(const ss_actuator_config_f32_t *cfg, const ss_act
     if (!stick_allowed(cfg, co, st, wave, wst, max_steps)) {
         return 0u;
     }
-    ss_waveform_state_f32_t w = *wst; /* committed with the step */
-    for (uint32_t k = 0; k < co->stick_n; ++k) {
-        ss_waveform_advance_f32(&w);
-    }
-    *status = stick_step(cfg, co, st, ss_waveform_value_f32(wave, &w));
+    ss_waveform_state_f32_t w; /* committed with the step */
+    *status = stick_step(cfg, co, st, drive_after(wave, wst, co->stick_n, &w));
     if (*status != SS_OK) {
         return 0u;
     }
@@ -975,10 +990,8 @@ SS_FORCE_INLINE ss_status_t coarse_step(const ss_actuator_config_f32_t *cfg,
             return status;
         }
     }
-    ss_waveform_state_f32_t w = *wst; /* committed with the step */
-    for (uint32_t k = 0; k < m; ++k) {
-        ss_waveform_advance_f32(&w);
-    }
+    ss_waveform_state_f32_t w; /* committed with the step */
+    const float drive_end = drive_after(wave, wst, m, &w);
     float phi_m[4];
     const float *phi = co->phi;
     float dt = co->dt_s;
@@ -991,7 +1004,7 @@ SS_FORCE_INLINE ss_status_t coarse_step(const ss_actuator_config_f32_t *cfg,
             phi = phi_m;
         }
     }
-    const ss_status_t status = coarse_step_over(cfg, st, phi, dt, ss_waveform_value_f32(wave, &w));
+    const ss_status_t status = coarse_step_over(cfg, st, phi, dt, drive_end);
     *taken = 0u;
     if (status == SS_OK) {
         *wst = w;

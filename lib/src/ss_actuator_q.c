@@ -229,6 +229,14 @@ SS_FORCE_INLINE int32_t piezo_strain_q40(const ss_actuator_config_q_t *cfg, ss_a
     return piezo_at_q40(cfg, st, ideal_strain_q40(cfg, st, drive_q16, slew));
 }
 
+/* num / den in Q30, 0 <= num <= den < 2^31, den > 0: by den's reciprocal, no division */
+SS_FORCE_INLINE int64_t share_q30(int64_t num, int64_t den)
+{
+    int sh = 0;
+    const int32_t m = ss_reciprocal_mantissa_q((uint32_t)den, &sh);
+    return ss_mul_recip_q((int32_t)num, m, sh - 30);
+}
+
 /* LS's advance over a step whose relative motion turned inside it, from v0 (the step's start) to
  * v1 (its end, the closing kick estimated), signs opposite: up to the turning point, then back,
  * each piece over its own time (as the float step, ss_actuator_f32.c: the velocity linear in
@@ -241,10 +249,8 @@ SS_NOINLINE void ls_advance_turning(const ss_actuator_config_q_t *cfg, ss_actuat
                                     int32_t dx_rel, int64_t v0, int64_t v1)
 {
     const int64_t dv = ss_abs64(v0 - v1); /* |v0| + |v1| */
-    int sh = 0;
-    const int32_t m = (dv < INT32_MAX) ? ss_reciprocal_mantissa_q((uint32_t)dv, &sh) : 0;
     /* |v0| / (|v0| + |v1|) in Q30 */
-    const int64_t frac = (m == 0) ? 0 : ss_mul_recip_q((int32_t)ss_abs64(v0), m, sh - 30);
+    const int64_t frac = (dv > 0 && dv < INT32_MAX) ? share_q30(ss_abs64(v0), dv) : 0;
     if (frac <= 0 || frac >= SS_Q30_ONE) {
         ss_ls_advance_q(&cfg->friction, &st->fr.ls, dx_rel, cfg->inv_dt_q47);
         return;
@@ -580,19 +586,30 @@ ss_status_t ss_actuator_step_corner_q(const ss_actuator_config_q_t *cfg, ss_actu
     return step(cfg, st, drive_q16, corner_frac_q30, corner_q16);
 }
 
+/* The player's next step: the drive's corner inside it if one lies there (its fraction of the step
+ * in Q30, 0 for none, and its value), then the drive at its end */
+SS_FORCE_INLINE int32_t wave_next_q(const ss_waveform_config_q_t *wave, ss_waveform_state_q_t *wst,
+                                    int32_t *frac, int32_t *corner)
+{
+    *frac = 0;
+    *corner = 0;
+    if (!ss_waveform_corner_q(wave, wst, frac, corner)) {
+        *frac = 0;
+    }
+    ss_waveform_advance_q(wst);
+    return ss_waveform_value_q(wave, wst);
+}
+
 ss_status_t ss_actuator_wave_step_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
                                     const ss_waveform_config_q_t *wave, ss_waveform_state_q_t *wst)
 {
     if (wave == NULL || wst == NULL) {
         return SS_ERR_NULL;
     }
-    int32_t frac = 0;
-    int32_t corner = 0;
-    if (!ss_waveform_corner_q(wave, wst, &frac, &corner)) {
-        frac = 0;
-    }
-    ss_waveform_advance_q(wst);
-    return step(cfg, st, ss_waveform_value_q(wave, wst), frac, corner);
+    int32_t frac;
+    int32_t corner;
+    const int32_t drive = wave_next_q(wave, wst, &frac, &corner);
+    return step(cfg, st, drive, frac, corner);
 }
 
 void ss_actuator_place_slider_q(ss_actuator_state_q_t *st, int64_t x_q40)
@@ -766,25 +783,13 @@ SS_FORCE_INLINE void stick_step_q(const ss_actuator_config_q_t *cfg, const ss_ac
  * changes by more than edge_limit_q16 (0.1 m/s of strain; on the corner's pieces in proportion)
  * in co->edge_parts steps of cfg_edge, the drive linear in between (and the corner in the part it
  * falls in), else the fine step. */
-/* num / den in Q30, 0 <= num <= den <= 2^30, den > 0: by den's reciprocal, no division */
-SS_FORCE_INLINE int64_t share_q30(int64_t num, int64_t den)
-{
-    int sh = 0;
-    const int32_t m = ss_reciprocal_mantissa_q((uint32_t)den, &sh);
-    return ss_mul_recip_q((int32_t)num, m, sh - 30);
-}
-
 SS_NOINLINE ss_status_t wave_step_edges_q(const ss_actuator_config_q_t *cfg, const ss_actuator_coarse_q_t *co,
                                           ss_actuator_state_q_t *st, const ss_waveform_config_q_t *wave,
                                           ss_waveform_state_q_t *wst)
 {
-    int32_t frac = 0;
-    int32_t corner = 0;
-    if (!ss_waveform_corner_q(wave, wst, &frac, &corner)) {
-        frac = 0;
-    }
-    ss_waveform_advance_q(wst);
-    const int32_t drive = ss_waveform_value_q(wave, wst);
+    int32_t frac;
+    int32_t corner;
+    const int32_t drive = wave_next_q(wave, wst, &frac, &corner);
     const int64_t u0 = st->drive_q16;
     /* the drive's change over the step, or over each piece of a corner against its share of the
      * limit (changes below 2^32, the limit below 2^31, shares within 2^30: within 64 bits) */
