@@ -21,7 +21,14 @@ typedef struct {
     uint64_t phase_q64; /* time into the current period, fraction of the period at 2^-64 */
     uint64_t step_q64;  /* phase increment per step: f dt 2^64, rounded */
     uint32_t index;     /* period index */
-    uint32_t pad;       /* zero; keeps the size a multiple of 8 on every target */
+    /* the rise's and the fall's shares of the period (at 2^-32) as reciprocal mantissas with their
+     * shifts (ss_reciprocal_mantissa_q; 0 for a share of 2^-32), made by init from the config's
+     * rise_q32: the drive's value without a division. Init again after a change of rise_q32. */
+    uint32_t rise_recip;
+    uint32_t fall_recip;
+    uint8_t rise_shift;
+    uint8_t fall_shift;
+    uint16_t pad; /* zero; keeps the size a multiple of 8 on every target */
 } ss_waveform_state_q_t;
 
 ss_waveform_config_q_t ss_waveform_sawtooth_q(uint32_t frequency_mhz, int32_t amplitude_q16,
@@ -43,6 +50,10 @@ int32_t ss_waveform_value_q(const ss_waveform_config_q_t *cfg, const ss_waveform
 
 /* Advance the player by one step. */
 void ss_waveform_advance_q(ss_waveform_state_q_t *st);
+
+/* Advance the player by n steps: the phase and period index of n calls of ss_waveform_advance_q,
+ * in one product where n steps are less than a period. */
+void ss_waveform_advance_by_q(ss_waveform_state_q_t *st, uint32_t n);
 
 /* Where the drive bends inside the next step (the one ss_waveform_advance_q would take), as
  * ss_waveform_corner_f32: 1 with *frac_q30 in (0, 2^30), the corner's time as a share of the step,

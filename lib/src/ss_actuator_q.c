@@ -676,9 +676,7 @@ SS_FORCE_INLINE int quiet_over(const ss_actuator_config_q_t *cfg, const ss_actua
                                int32_t *drive_end)
 {
     *w_end = *wst;
-    for (uint32_t k = 0; k < m; ++k) {
-        ss_waveform_advance_q(w_end);
-    }
+    ss_waveform_advance_by_q(w_end, m);
     *drive_end = ss_waveform_value_q(wave, w_end);
     /* m/s at 2^-28 times s at 2^-40, and m/V at 2^-48 times V at 2^-16: both m at 2^-40 */
     const int64_t rod = ss_shr_round(ss_mul_s32_s64(st->v_rod_q28, dt_q40), 28);

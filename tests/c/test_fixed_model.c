@@ -774,7 +774,8 @@ static void test_q_waveform_corners(void **unused)
 }
 
 /* The sawtooth's value by 64-bit division, as the player computed it before its division became a
- * reciprocal and a remainder: the player must give these bits exactly. */
+ * reciprocal and a remainder: the player must give these bits exactly, from the reciprocal the
+ * shape computes (ss_sawtooth_at_phase_q) and from the one init cached in the player's state. */
 static int32_t sawtooth_by_division(const ss_waveform_config_q_t *cfg, uint32_t phase_q32)
 {
     const uint64_t one = (uint64_t)1 << 32;
@@ -787,6 +788,16 @@ static int32_t sawtooth_by_division(const ss_waveform_config_q_t *cfg, uint32_t 
     const int64_t mag = (int64_t)((num + den / 2u) / den);
     const int64_t v = (int64_t)cfg->offset_q16 + ((cfg->amplitude_q16 < 0) ? -mag : mag);
     return (v > INT32_MAX) ? INT32_MAX : (v < INT32_MIN) ? INT32_MIN : (int32_t)v;
+}
+
+static int32_t player_at(const ss_waveform_config_q_t *w, uint32_t phase_q32)
+{
+    ss_waveform_state_q_t st;
+    assert_int_equal(ss_waveform_init_q(w, 1 << 20, &st), SS_OK);
+    st.phase_q64 = ((uint64_t)phase_q32 << 32) | 0x9e3779b9u; /* the low word is not read */
+    const int32_t v = ss_waveform_value_q(w, &st);
+    assert_int_equal(v, ss_sawtooth_at_phase_q(w, phase_q32));
+    return v;
 }
 
 static void test_q_sawtooth_without_division_is_exact(void **unused)
@@ -805,14 +816,13 @@ static void test_q_sawtooth_without_division_is_exact(void **unused)
             for (int dir = -1; dir <= 1; dir += 2) {
                 ss_waveform_config_q_t w = ss_waveform_sawtooth_q(1000000u, amps[j], 0, rises[i], dir, 1u);
                 for (size_t k = 0; k < sizeof phases / sizeof phases[0]; ++k) {
-                    assert_int_equal(ss_sawtooth_at_phase_q(&w, phases[k]),
-                                     sawtooth_by_division(&w, phases[k]));
+                    assert_int_equal(player_at(&w, phases[k]), sawtooth_by_division(&w, phases[k]));
                     ++checked;
                 }
                 /* the phase just either side of the corner */
                 for (int64_t dp = -2; dp <= 2; ++dp) {
                     const uint32_t ph = (uint32_t)((int64_t)rises[i] + dp);
-                    assert_int_equal(ss_sawtooth_at_phase_q(&w, ph), sawtooth_by_division(&w, ph));
+                    assert_int_equal(player_at(&w, ph), sawtooth_by_division(&w, ph));
                     ++checked;
                 }
             }
@@ -827,10 +837,35 @@ static void test_q_sawtooth_without_division_is_exact(void **unused)
         const int32_t dir = (ss_test_xorshift(&seed) & 1u) ? 1 : -1;
         ss_waveform_config_q_t w = ss_waveform_sawtooth_q(1000000u, amp, off, rise, dir, 1u);
         const uint32_t ph = (uint32_t)(ss_test_xorshift(&seed) >> 32);
-        assert_int_equal(ss_sawtooth_at_phase_q(&w, ph), sawtooth_by_division(&w, ph));
+        assert_int_equal(player_at(&w, ph), sawtooth_by_division(&w, ph));
         ++checked;
     }
     print_message("sawtooth by reciprocal and remainder: %ld values, each the division's\n", checked);
+}
+
+/* n steps at once: the phase and period index of n single steps, across a period's end, for short
+ * and long skips, and with the index saturated. */
+static void test_q_waveform_advance_by(void **unused)
+{
+    (void)unused;
+    const ss_waveform_config_q_t w = ss_waveform_sawtooth_q(2000000u, 100 << 16, 0, 4080218880u, 1, 3u);
+    uint64_t seed = 0x9e3779b97f4a7c15ull;
+    long wraps = 0;
+    for (int k = 0; k < 2000; ++k) {
+        ss_waveform_state_q_t a;
+        assert_int_equal(ss_waveform_init_q(&w, (int32_t)(1 + ss_test_xorshift(&seed) % 700000u), &a), SS_OK);
+        a.phase_q64 = ss_test_xorshift(&seed);
+        a.index = (k % 7 == 0) ? UINT32_MAX - 1u : (uint32_t)(k % 5);
+        ss_waveform_state_q_t b = a;
+        const uint32_t n = (uint32_t)(ss_test_xorshift(&seed) % 300u);
+        ss_waveform_advance_by_q(&a, n);
+        for (uint32_t i = 0; i < n; ++i) {
+            ss_waveform_advance_q(&b);
+        }
+        assert_memory_equal(&a, &b, sizeof a);
+        wraps += a.index != (uint32_t)(k % 5) && k % 7 != 0;
+    }
+    assert_true(wraps > 100); /* the period's end is crossed often */
 }
 
 /* The phase accumulator: period boundaries at the exact step, shape as the float sawtooth. */
@@ -956,6 +991,7 @@ int main(void)
         cmocka_unit_test(test_q_run_matches_manual_steps),
         cmocka_unit_test(test_q_waveform),
         cmocka_unit_test(test_q_sawtooth_without_division_is_exact),
+        cmocka_unit_test(test_q_waveform_advance_by),
         cmocka_unit_test(test_q_waveform_corners),
         cmocka_unit_test(test_q_actuator_steps_match_float),
         cmocka_unit_test(test_q_effects_steps_match_float),
