@@ -66,6 +66,17 @@ IND_CASES: list[tuple[str, tuple[str, ...], dict]] = (
         (f"outside_{e}", (e,), {"law": "lugre", "outside": True})
         for e in independent.OUTSIDE_EFFECTS
     ]
+    # the generator's cubic sensor error (40-100 nm over 0.72 mm, 0.006-0.014 % of the travel)
+    # lies below the position floor (0.05 %, a good sensor's own linearity: docs/diagnosis.md) and
+    # the calibrated law takes it up; at 0.5-2 um (0.07-0.28 %, a capacitive gauge's or an LVDT's
+    # linearity) it is a sensor error the runs must show
+    + [
+        (
+            "outside_sensor_cubic_above_floor",
+            ("sensor_cubic",),
+            {"law": "lugre", "outside": True, "cubic_m": (0.5e-6, 2e-6)},
+        )
+    ]
 )
 # The same single effects in contacts none of our laws fits (GMS, and the LS paper's other reading):
 # the calibration then leaves about 70 x the noise, and an effect must stand out of that misfit.
@@ -123,10 +134,13 @@ def make_independent(tmp: Path, name: str, causes, kw: dict, seed: int, rate_hz:
             "sigma2_ns_per_m": 8.0 * rng.uniform(0.5, 2.0),
         }
     path = tmp / f"{name}_{seed}"
+    effects = {c: independent.draw_effect(c, rng) for c in causes}
+    if "cubic_m" in kw:  # drawn last: the other draws are the plain case's
+        effects["sensor_cubic"]["amplitude_m"] = rng.uniform(*kw["cubic_m"])
     independent.generate(
         path,
         law=kw["law"],
-        effects={c: independent.draw_effect(c, rng) for c in causes},
+        effects=effects,
         seed=seed,
         sample_rate_hz=rate_hz,
         true_params=true_params,
