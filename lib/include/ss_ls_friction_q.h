@@ -23,8 +23,12 @@ typedef struct {
     int32_t kt_q30;    /* tangent stiffness over sigma0, dF_M/dx / sigma0 in Q1.30, [0, 1] */
     int32_t level_q24; /* break-away level s: Fs at rest, -> g(v) in gross sliding, N at 2^-24 */
     int32_t force_q24; /* total friction after the last step, N at 2^-24 */
-    int8_t dir;        /* direction of the last motion: +1, -1, 0 before any motion */
-    uint8_t depth;     /* reversal points on the stack */
+    /* the break-away gate of fm_q24 in Q30 and the Fs (N at 2^-24) it was taken at: kept, for the
+     * next step and the force need it again (a config whose Fs moved makes it again) */
+    int32_t gate_q30;
+    int32_t gate_fs_q24;
+    int8_t dir;    /* direction of the last motion: +1, -1, 0 before any motion */
+    uint8_t depth; /* reversal points on the stack */
     ss_ls_reversal_q_t rev[SS_LS_Q_MEMORY_DEPTH];
 } ss_ls_state_q_t;
 

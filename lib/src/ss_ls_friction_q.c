@@ -47,6 +47,17 @@ static int64_t breakaway_gate_q30(const ss_friction_config_q_t *cfg, int32_t fm_
                         30);
 }
 
+/* The gate of fm_q24, kept in the state (made again where the config's Fs is not the one it was
+ * taken at) */
+static int64_t gate_of_fm_q30(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
+{
+    if (st->gate_fs_q24 != cfg->fs_q24) {
+        st->gate_q30 = (int32_t)breakaway_gate_q30(cfg, st->fm_q24);
+        st->gate_fs_q24 = cfg->fs_q24;
+    }
+    return st->gate_q30;
+}
+
 ss_status_t ss_ls_init_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
 {
     if (st == NULL) {
@@ -62,6 +73,8 @@ ss_status_t ss_ls_init_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
     st->kt_q30 = SS_Q30_ONE;
     st->level_q24 = cfg->fs_q24;
     st->force_q24 = 0;
+    st->gate_q30 = 0; /* F_M = 0: no gross slip */
+    st->gate_fs_q24 = cfg->fs_q24;
     st->dir = 0;
     st->depth = 0;
     for (int i = 0; i < SS_LS_Q_MEMORY_DEPTH; ++i) {
@@ -139,6 +152,7 @@ void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
         return;
     }
     const int32_t fm_old = st->fm_q24;
+    const int64_t gate_old = gate_of_fm_q30(cfg, st);
     if (dx_q40 != 0) {
         const int8_t d = (dx_q40 > 0) ? (int8_t)1 : (int8_t)-1;
         if (st->dir != 0 && d != st->dir) {
@@ -149,6 +163,7 @@ void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
         close_loops(st);
         eval_branch(cfg, st);
         rebase(cfg, st);
+        st->gate_q30 = (int32_t)breakaway_gate_q30(cfg, st->fm_q24);
     }
     /* elastic-plastic split: dF_M / sigma0 in m at 2^-40 is dF_M [2^-24 N] times 1/sigma0 [m/N at
      * 2^-47], to 2^-40; |dF_M| <= 2 Fs < 2^30: the product fits */
@@ -158,8 +173,7 @@ void ss_ls_advance_q(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st, int
         slip = 0; /* rounding only: the tangent stiffness never exceeds sigma0 */
     }
     /* the gate's mean over the step, as the float step (ss_ls_friction_f32.c) */
-    const int64_t gate =
-        ss_shr_round(breakaway_gate_q30(cfg, fm_old) + breakaway_gate_q30(cfg, st->fm_q24), 1);
+    const int64_t gate = ss_shr_round(gate_old + st->gate_q30, 1);
     slip = ss_shr_round(ss_mul_i64_i32(slip, (int32_t)gate), 30); /* gate in [0, 2^30] */
     if (slip == 0) {
         return; /* no gross slip: the level keeps its value (exp(0) = 1) */
@@ -190,7 +204,10 @@ int32_t ss_ls_force_at_q(const ss_friction_config_q_t *cfg, const ss_ls_state_q_
     int32_t *dfdv_q16 = (slopes != NULL) ? &slopes->dfdv_q16 : NULL;
     /* gross-slip share of v: (1 - kt/sigma0) alpha, Q30 */
     const int64_t share = ss_shr_round(
-        ss_mul_i64_i32(SS_Q30_ONE - (int64_t)st->kt_q30, (int32_t)breakaway_gate_q30(cfg, st->fm_q24)), 30);
+        ss_mul_i64_i32(SS_Q30_ONE - (int64_t)st->kt_q30, (st->gate_fs_q24 == cfg->fs_q24)
+                                                             ? st->gate_q30
+                                                             : (int32_t)breakaway_gate_q30(cfg, st->fm_q24)),
+        30);
     /* dz/dt and the micro-damping's part of dF/dv; both 0 without gross slip (share 0: presliding
      * and sticking, most steps), where the Stribeck level and its reciprocal are then not needed:
      * the same bits without them */

@@ -381,6 +381,65 @@ static void test_q_wiping_out(void **unused)
     assert_int_equal(b.sq.force_q24, a.sq.force_q24);
 }
 
+/* LS keeps the break-away gate of F_M in its state (gate_q30): along a path through presliding, the
+ * gate's ramp and gross slip, a state made to take the gate again at every step (a wrong gate at a
+ * forgotten Fs) steps to the same bits; and a config whose Fs moved is not read through the kept
+ * gate. */
+static void test_q_ls_gate_kept(void **unused)
+{
+    (void)unused;
+    const ss_friction_config_q_t cfg = ss_friction_config_table1_q();
+    ss_ls_state_q_t a;
+    ss_ls_state_q_t b;
+    memset(&a, 0, sizeof a); /* the padding too: the states are compared byte for byte */
+    memset(&b, 0, sizeof b);
+    assert_int_equal(ss_ls_init_q(&cfg, &a), SS_OK);
+    assert_int_equal(ss_ls_init_q(&cfg, &b), SS_OK);
+    const double amp_m = 12.0 * (cfg.fs_q24 / 16777216.0) / cfg.sigma0_n_per_m; /* into gross slip */
+    const int32_t dt_q40 = 1099512;                                             /* 1 us */
+    int64_t x_prev = 0;
+    int ramp = 0;
+    int slip = 0;
+    for (int k = 1; k <= 20000; ++k) {
+        const double x =
+            amp_m * sin(6.283185307179586 * k / 4000.0) * (1.0 + 0.3 * sin(6.283185307179586 * k / 700.0));
+        const int64_t x_q40 = (int64_t)llround(x * 1099511627776.0);
+        const int32_t dx = (int32_t)(x_q40 - x_prev);
+        x_prev = x_q40;
+        b.gate_q30 = SS_Q30_ONE / 3; /* a wrong gate at a forgotten Fs: b takes the gate again */
+        b.gate_fs_q24 = 0;
+        assert_int_equal(ss_ls_step_q(&cfg, &a, dx, dt_q40), ss_ls_step_q(&cfg, &b, dx, dt_q40));
+        assert_memory_equal(&a, &b, sizeof a);
+        ramp += a.gate_q30 > 0 && a.gate_q30 < SS_Q30_ONE / 2;
+        slip += a.gate_q30 > SS_Q30_ONE / 10 * 9 && a.level_q24 != cfg.fs_q24; /* the level moved */
+    }
+    print_message("LS gate kept: %d steps low on its ramp, %d at 0.9 or more in gross slip\n", ramp, slip);
+    assert_true(ramp > 100 && slip > 1000); /* the path crossed the ramp and slid */
+    /* Fs and Fc 20 % lower (a lighter normal force): the kept gate, taken at Table I's Fs, is not
+     * read */
+    ss_friction_config_f32_t f = ss_friction_config_table1_f32();
+    f.fs_n *= 0.8f;
+    f.fc_n *= 0.8f;
+    ss_friction_config_q_t low;
+    const char *bad = NULL;
+    assert_int_equal(ss_friction_config_to_q(&f, &low, &bad), SS_OK);
+    assert_true(low.fs_q24 != cfg.fs_q24);
+    /* F_M at 0.85 of Table I's Fs on the virgin curve: gate 0 there, 1 under the lower Fs */
+    assert_int_equal(ss_ls_init_q(&cfg, &a), SS_OK);
+    const double u_m = -log(0.15) * (cfg.fs_q24 / 16777216.0) / cfg.sigma0_n_per_m;
+    (void)ss_ls_step_q(&cfg, &a, (int32_t)llround(u_m * 1099511627776.0), dt_q40);
+    assert_int_equal(a.gate_q30, 0);
+    b = a;
+    ss_ls_advance_q(&low, &b, 0, 1); /* no motion: b only takes its gate at the lower Fs */
+    assert_int_equal(b.gate_q30, SS_Q30_ONE);
+    ss_friction_slopes_q_t sa;
+    ss_friction_slopes_q_t sb;
+    assert_int_equal(ss_ls_force_at_q(&low, &a, 1 << 20, &sa), ss_ls_force_at_q(&low, &b, 1 << 20, &sb));
+    assert_memory_equal(&sa, &sb, sizeof sa);
+    assert_int_equal(ss_ls_step_q(&low, &a, 1000, dt_q40), ss_ls_step_q(&low, &b, 1000, dt_q40));
+    assert_memory_equal(&a, &b, sizeof a);
+}
+
 /* Presliding below 0.9 Fs depends on the path only: in q the same path at 1000x the speed gives the
  * same force to the bit (viscous term off); LuGre q does not. */
 static void test_q_rate_independent_lugre_not(void **unused)
@@ -984,6 +1043,7 @@ int main(void)
         cmocka_unit_test(test_q_initial_stiffness),
         cmocka_unit_test(test_q_steady_sliding_is_stribeck),
         cmocka_unit_test(test_q_wiping_out),
+        cmocka_unit_test(test_q_ls_gate_kept),
         cmocka_unit_test(test_q_rate_independent_lugre_not),
         cmocka_unit_test(test_q_no_drift_ls_drift_lugre),
         cmocka_unit_test(test_q_memory_depth_bounded),
