@@ -1,6 +1,7 @@
 """The fixed-point bench's configs (fw/bench_q_config.h): Table I at the step at which LS holds
 issue 17's 0.1 % a cycle (bench/step_study.py --variant q: 0.070 % at 1.5 us), and the coarse
-steps: LS's of 4 at 1.5 us (ss_actuator_coarse_to_q; --variant q --coarse 4: 0.068 %), LuGre's of 8
+steps: LS's of 8 at 1.5 us, split (ss_actuator_coarse_to_q; --variant q --coarse 8 --edge: 0.094 %),
+LuGre's of 8
 at 1 us (--coarse 8: 0.066 %), and LuGre's stick steps of 40 at 1.5 us with coarse steps of 4
 (--steps-us 1.5 --coarse 4 --stick 40), through the host
 converter (in double), which the integer-only bench image does not link.
@@ -16,7 +17,7 @@ import ctypes as C
 from stickslip import _native as N
 
 LS_STEP_S = 1.5e-6
-LS_COARSE_N = 4  # 6 us: a q config holds dt / 2 M_R to 8.6 us for Table I's rod
+LS_COARSE_N = 8  # 12 us: its split steps never kick the rod (a q config holds dt / 2 M_R to 8.6 us)
 COARSE_N = 8
 STICK_N = 40  # LuGre's stick steps at 1.5 us with coarse steps of 4 (--variant q --steps-us 1.5
 STICK_COARSE_N = 4  # --coarse 4 --stick 40)

@@ -11,11 +11,13 @@ With --variant q the fixed-point core runs the steps, against the same float ref
 
 --coarse N runs the steps with coarse steps of up to N where the contact sticks, 2 where it rings
 (LuGre, LS; a row every N steps, docs/model.md "Coarse steps while the contact sticks") and prints
-each drive's error and model steps per microsecond (issue 17's figures: LuGre 8 at 1 us, LS 4 at
-1.5 us):
+each drive's error and model steps per microsecond (issue 17's figures: LuGre 8 at 1 us, LS 8 at
+1.5 us, LS's in split steps, docs/model.md "The split step"). --edge reads each cycle's step at
+the last row before each fast edge (edge_cycle_steps) instead of at the period's boundary, where
+rows 12 us apart interpolated across the slip put 0.2 % of the record's coarseness into LS's figure:
 
     PYTHONPATH=hil .venv/bin/python bench/step_study.py --models lugre --steps-us 1 --coarse 8
-    PYTHONPATH=hil .venv/bin/python bench/step_study.py --models ls --steps-us 1.5 --coarse 4
+    PYTHONPATH=hil .venv/bin/python bench/step_study.py --models ls --steps-us 1.5 --coarse 8 --edge
 
 --stick L adds LuGre's stick steps of L where the contact has stopped ringing (docs/model.md,
 "Stick steps"), with rows every L steps; the per-cycle steps of the run and of its reference are
@@ -135,6 +137,9 @@ def main() -> None:
     ap.add_argument(
         "--stick", type=int, default=0, metavar="L", help="stick steps of L (LuGre, with --coarse)"
     )
+    ap.add_argument(
+        "--edge", action="store_true", help="read each cycle's step before its fast edge (coarse)"
+    )
     a = ap.parse_args()
     params = parse_params(a.param)
     models = a.models.split(",")
@@ -145,7 +150,7 @@ def main() -> None:
         for f_hz, fall_s in DRIVES:
             for direction in (1, -1):
                 drive = (model, f_hz, direction, fall_s)
-                if a.stick:
+                if a.stick or a.edge:
                     ref_run = simulated(*drive, REF_DT_S, params=params)[0]
                 else:
                     ref = steps(*drive, REF_DT_S, params=params)
@@ -157,6 +162,9 @@ def main() -> None:
                         s0, ref0 = edge_cycle_steps(r0, ref_run)
                         err0 = 100 * float(np.max(np.abs(s0 / ref0[: len(s0)] - 1)))
                         r, per_us = simulated(*drive, dt, a.variant, params, a.coarse, a.stick)
+                        s, ref = edge_cycle_steps(r, ref_run)
+                    elif a.edge:
+                        r, per_us = simulated(*drive, dt, a.variant, params, a.coarse)
                         s, ref = edge_cycle_steps(r, ref_run)
                     else:
                         s, per_us = run(*drive, dt, a.variant, params, a.coarse)
@@ -182,8 +190,9 @@ def main() -> None:
         print("|---|---|---|---|---|---|---|")
         print("\n".join(rows))
     elif a.coarse > 1:
+        where = " before each fast edge" if a.edge else ""
         print(
-            f"| law | drive | step (us) | per-cycle error, coarse steps of {a.coarse} | "
+            f"| law | drive | step (us) | per-cycle error{where}, coarse steps of {a.coarse} | "
             "model steps per us |"
         )
         print("|---|---|---|---|---|")

@@ -90,9 +90,9 @@ int main(void)
     /* each law at the longest step at which it holds issue 17's 0.1 % a cycle over the drive matrix
      * (bench/step_study.py, docs/model.md): LS 1.5 us, LuGre 1 us */
     static const float step_s[2] = {1.5e-6f, 1.0e-6f};
-    /* and the coarse steps' longest at which each holds it (bench/step_study.py --coarse N):
-     * LS 4 (0.064 %), LuGre 8 (0.065 %) */
-    static const uint32_t coarse_n[2] = {4u, 8u};
+    /* and the coarse steps' longest at which each holds it (bench/step_study.py --coarse N): LS 8
+     * in split steps (0.071 %, --edge), LuGre 8 (0.065 %) */
+    static const uint32_t coarse_n[2] = {8u, 8u};
     static ss_actuator_state_f32_t st;
     char line[160];
     for (int m = 0; m < 2; ++m) {

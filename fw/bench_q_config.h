@@ -51,17 +51,17 @@
     .rod_w2dt2_q28 = 114207163, \
 }
 
-/* Table I, LS, dt 1.5 us: coarse steps of 4 (ss_actuator_coarse_to_q) */
+/* Table I, LS, dt 1.5 us: coarse steps of 8 (ss_actuator_coarse_to_q) */
 #define SS_BENCH_Q_LS_COARSE \
 { \
     .cfg = { \
-        .dt_q40 = 6597070, \
+        .dt_q40 = 13194140, \
         .piezo_gain_q48 = 12384899, \
         .friction_model = 0, \
-        .lag_q24 = 83348, \
-        .kick_rod_q40 = 2998668198, \
-        .kick_slider_q40 = 239024278, \
-        .phi_q28 = {-226512147, 51365286, -349657535, -228249227}, \
+        .lag_q24 = 41674, \
+        .kick_rod_q40 = 4294967295, \
+        .kick_slider_q40 = 478048556, \
+        .phi_q28 = {124229094, -43509431, 1184722342, 127171913}, \
         .friction = { \
             .fs_q24 = 60397980, \
             .fc_q24 = 50331648, \
@@ -77,7 +77,7 @@
             .fc_recip_mantissa = 1431655765, \
             .fc_recip_shift = 56, \
         }, \
-        .inv_dt_q47 = 21333333, \
+        .inv_dt_q47 = 10666666, \
         .effects = { \
             .load_q24 = 0, \
             .slew_q24 = 0, \
@@ -93,7 +93,7 @@
             .piezo_damping_q16 = 0, \
             .pad2 = 0, \
         }, \
-        .contact_lag_q30 = 29283870, \
+        .contact_lag_q30 = 117135481, \
         .rod_w2dt2_q28 = 0, \
     }, \
     .cfg_mid = { \
@@ -138,14 +138,14 @@
         .contact_lag_q30 = 7320968, \
         .rod_w2dt2_q28 = 0, \
     }, \
-    .n = 4, \
+    .n = 8, \
     .v_rel_max_q28 = 805306, \
-    .ring_max_q40 = 1979, \
+    .ring_max_q40 = 3958, \
     .ring_max_2_q40 = 990, \
     .v_rel_mid_max_q28 = 2684355, \
-    .ring_mid_max_q40 = 3299, \
+    .ring_mid_max_q40 = 1649, \
     .compliance_q56 = 346430741, \
-    .pad = 0, \
+    .split = 1, \
     .stick_n = 0, \
     .stick_h_q40 = 0, \
     .stick_inv_h_q47 = 0, \
@@ -299,7 +299,7 @@
     .v_rel_mid_max_q28 = 1342177, \
     .ring_mid_max_q40 = 440, \
     .compliance_q56 = 346430741, \
-    .pad = 0, \
+    .split = 0, \
     .stick_n = 0, \
     .stick_h_q40 = 0, \
     .stick_inv_h_q47 = 0, \
@@ -453,7 +453,7 @@
     .v_rel_mid_max_q28 = 1342177, \
     .ring_mid_max_q40 = 660, \
     .compliance_q56 = 346430741, \
-    .pad = 0, \
+    .split = 0, \
     .stick_n = 40, \
     .stick_h_q40 = 65970720, \
     .stick_inv_h_q47 = 2133333, \

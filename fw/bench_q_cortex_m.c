@@ -31,7 +31,7 @@ static void put_coarse_name(char *line, size_t *n, const char *name, const ss_ac
     ss_fmt_put_str(line, n, ": ");
 }
 
-/* With coarse steps where the contact sticks (LS 4 x 1.5 us, LuGre 8 x 1 us), 2 where it rings
+/* With coarse steps where the contact sticks (LS 8 x 1.5 us, split; LuGre 8 x 1 us), 2 where it rings
  * (bench_q_config.h; docs/model.md): the same BENCH_STEPS steps of model time in fewer model steps.
  * The player advances every step of dt (a coarse step advances a copy of it n times) but is read
  * once a model step: its advances over BENCH_STEPS and its reads per model step are subtracted

@@ -164,6 +164,7 @@ class ActuatorCoarse(C.Structure):
         ("stick_omega_per_s", C.c_float),
         ("edge_parts", C.c_uint32),
         ("stick_phi", C.c_float * 16),
+        ("split_min_n", C.c_uint32),
     ]
 
 
@@ -243,7 +244,7 @@ class ActuatorCoarseQ(C.Structure):
         ("v_rel_mid_max_q28", C.c_int32),
         ("ring_mid_max_q40", C.c_int32),
         ("compliance_q56", C.c_int32),
-        ("pad", C.c_int32),
+        ("split", C.c_int32),
         ("stick_n", C.c_uint32),
         ("stick_h_q40", C.c_int32),
         ("stick_inv_h_q47", C.c_int32),

@@ -501,10 +501,11 @@ def simulate(
     sample a step, as a q node's lock-step; the slider starting at 0; of the effects,
     the load, the slew limit, the sensor scale, the asymmetric friction, the hysteresis and the
     base: the converter refuses the others by name). coarse_steps > 1 (LuGre, LS; the q variant's
-    n dt at most 4.3 us) takes up to that many steps as one where the contact sticks and
-    the rod is quiet, 2 where the contact rings (docs/model.md, "Coarse steps while the contact
-    sticks"; issue 17's 0.1 % holds with LuGre's 8 at 1 us and LS's 4 at 1.5 us): the same rows,
-    fewer model steps (meta["model_steps"]). stick_steps > 0 (LuGre, with coarse_steps > 1; no
+    n dt at most 8.6 us on Table I's rod, but for LS's split steps) takes up to that many steps as
+    one where the contact sticks and the rod is quiet, 2 where the contact rings (docs/model.md,
+    "Coarse steps while the contact sticks" and "The split step"; issue 17's 0.1 % holds with
+    LuGre's 8 at 1 us and LS's 8 at 1.5 us): the same rows, fewer model steps
+    (meta["model_steps"]). stick_steps > 0 (LuGre, with coarse_steps > 1; no
     effect but the load and the sensor's scale) also takes that many as one where the contact has
     stopped ringing, by the stuck contact's linear flow (docs/model.md, "Stick steps"); a stick step
     never crosses a row either, so it needs decimation of stick_steps or a multiple."""

@@ -103,7 +103,7 @@ ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_ac
 #define SS_COARSE_V_REL_MID_MAX_M_PER_S 5e-3f
 #define SS_COARSE_V_RING_MID_MAX_M_PER_S 2e-4f
 #define SS_COARSE_LS_V_REL_MID_MAX_M_PER_S 1e-2f
-#define SS_COARSE_LS_V_RING_MID_MAX_M_PER_S 1e-3f
+#define SS_COARSE_LS_V_RING_MID_MAX_M_PER_S 5e-4f
 #define SS_COARSE_LS_V_RING_MAX_M_PER_S 3e-4f
 #define SS_COARSE_LS_V_REL_MAX_M_PER_S 3e-3f
 /* The bounds above lean on the coarse step's flows: the rod's force ramp (both laws) and LS's
@@ -119,6 +119,15 @@ ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_ac
 /* The x = sigma0 (n dt)^2 / M_C below which LS's slider flow holds (its series to x^2); the q
  * family's is the same in Q30 (ss_actuator_q.c) */
 #define SS_COARSE_FLOW_X_MAX 0.1f
+/* ... and below which its series with one more term holds (the split steps' reach, 12 us on Table I
+ * at x = 0.0996; the next term at most 6.3e-7) */
+#define SS_COARSE_FLOW_X_LONG_MAX 0.4f
+/* LS's coarse steps of this many dt or more take the split form (ss_actuator_f32.c, split_step_over:
+ * the rod's ring split from its quasi-static part); 2 dt the held form */
+#define SS_COARSE_SPLIT_MIN_N 3u
+/* ... whose ring takes the rod's own flow: with a contact stiffer than this share of the stack the
+ * coarse steps keep the kicked form's bounds (Table I: 0.048) */
+#define SS_COARSE_SPLIT_RHO_MAX 0.1f
 
 /* Made by ss_actuator_coarse_init_f32 from the actuator's config: init it again after a change of
  * the config's dt, piezo or rod (its flow is theirs). */
@@ -138,13 +147,16 @@ typedef struct {
     float stick_phi[16];          /* the stuck contact's linear flow over stick_n dt, row-major, on the
                                    * deviation from the ramp's steady state of (e, v_rod / omega, z,
                                    * v_slider / omega): e the rod off the piezo's strain, z the bristle */
+    uint32_t split_min_n;         /* LS: coarse steps of this many dt or more take the split form
+                                   * (SS_COARSE_SPLIT_MIN_N), 0: none (a contact stiffer than
+                                   * SS_COARSE_SPLIT_RHO_MAX of the stack, or LuGre) */
 } ss_actuator_coarse_f32_t;
 
 /* The coarse steps for n steps of cfg's dt, with the bounds above (chosen on Table I: LuGre at
  * dt = 1 us, n = 8, worst per-cycle error over issue 17's drive matrix 0.067 %, 0.275 model steps a
- * microsecond on the paper's drive; LS at 1.5 us, n = 4, 0.072 %, 0.290; bench/step_study.py
- * --coarse N). SS_ERR_RANGE with bad_field "friction_model" for GMS, "coarse_n" for n outside
- * [2, 64] or n dt past the config's range of dt; the config's own errors as
+ * microsecond on the paper's drive; LS at 1.5 us, n = 8 in split steps, 0.071 %, 0.243 read before
+ * each fast edge; bench/step_study.py --coarse N [--edge]). SS_ERR_RANGE with bad_field "friction_model" for
+ * GMS, "coarse_n" for n outside [2, 64] or n dt past the config's range of dt; the config's own errors as
  * ss_actuator_config_check_f32. */
 ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uint32_t n,
                                         ss_actuator_coarse_f32_t *co, const char **bad_field);

@@ -93,8 +93,9 @@ ss_status_t ss_actuator_step_corner_q(const ss_actuator_config_q_t *cfg, ss_actu
 
 /* Coarse steps while the contact sticks, as ss_actuator_coarse_f32_t (docs/model.md), LuGre's and
  * LS's: the actuator's configs at n dt and at 2 dt, made with the bounds by ss_actuator_coarse_to_q
- * (ss_convert_q.h). As the float family's, a coarse step holds the friction in the rod's flow; a
- * q config holds dt / 2 M_R within 32 bits up to 8.6 us for Table I's rod (n dt at most that), and
+ * (ss_convert_q.h). As the float family's, a coarse step holds the friction in the rod's flow (LS's
+ * split form: splits the rod's ring from it); a q config holds dt / 2 M_R within 32 bits up to 8.6
+ * us for Table I's rod (n dt at most that, but for LS's split steps, which never kick the rod), and
  * a coarse step cut by a row is taken as 2 dt or not at all. */
 typedef struct {
     ss_actuator_config_q_t cfg;     /* the actuator's config with dt_q40 the coarse step's */
@@ -110,7 +111,9 @@ typedef struct {
     int32_t compliance_q56;         /* 1 / k, the stack's compliance, m/N at 2^-56: the coarse step holds
                                      * the friction in the rod's flow; 0 (a stack softer than 33.6
                                      * MN/m): it kicks the rod as the fine step does (so with a base) */
-    int32_t pad;                    /* zero; keeps the size a multiple of 8 on every target */
+    int32_t split;                  /* 1: LS's whole coarse steps take the split form (the float's
+                                     * split_min_n, where the stack's compliance fits and no base asks
+                                     * for the kicked form), else 0 */
     /* Stick steps (LuGre), as the float family's (ss_actuator_coarse_stick_f32): made by
      * ss_actuator_coarse_stick_to_q (ss_convert_q.h), all 0 when off */
     uint32_t stick_n;                /* steps of dt in a stick step, 0: none */

@@ -661,6 +661,21 @@ static ss_status_t wave_step_edges(const ss_actuator_config_f32_t *cfg, const ss
     return step(cfg, st, drive_v, frac, corner_v);
 }
 
+/* Do LS's slider flows hold at its stiffest contact kt_max over coarse steps of up to n dt: with
+ * split steps, theirs (3 dt to n dt, the contact in series with the stack) within the longer series
+ * and the held step's of 2 dt within the short one; without, the held steps' of up to n dt? */
+static int ls_flows_hold(const ss_actuator_config_f32_t *cfg, uint32_t n, float kt_max, int split)
+{
+    const float dt2 = 2.0f * cfg->dt_s;
+    const float dt = (float)n * cfg->dt_s;
+    if (!split) {
+        return kt_max * dt * dt / cfg->slider_mass_kg < SS_COARSE_FLOW_X_MAX;
+    }
+    const float ks_max = kt_max / (1.0f + kt_max / cfg->piezo_stiffness_n_per_m);
+    return kt_max * dt2 * dt2 / cfg->slider_mass_kg < SS_COARSE_FLOW_X_MAX &&
+           ks_max * dt * dt / cfg->slider_mass_kg < SS_COARSE_FLOW_X_LONG_MAX;
+}
+
 ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uint32_t n,
                                         ss_actuator_coarse_f32_t *co, const char **bad_field)
 {
@@ -693,8 +708,11 @@ ss_status_t ss_actuator_coarse_init_f32(const ss_actuator_config_f32_t *cfg, uin
     /* LS's contact is at most (1 + |asymmetry|) sigma0 stiff (ls_stiffness' dF/dx): the flow must
      * hold at that */
     const float kt_max = (1.0f + fabsf(cfg->friction.asymmetry)) * cfg->friction.sigma0_n_per_m;
-    if (cfg->effects.base_mass_kg != 0.0f ||
-        (ls && kt_max * dt * dt / cfg->slider_mass_kg >= SS_COARSE_FLOW_X_MAX)) {
+    /* the split form takes the ring on the rod's own flow: a contact much softer than the stack */
+    const int split =
+        ls && n >= SS_COARSE_SPLIT_MIN_N && kt_max <= SS_COARSE_SPLIT_RHO_MAX * cfg->piezo_stiffness_n_per_m;
+    co->split_min_n = split ? SS_COARSE_SPLIT_MIN_N : 0u;
+    if (cfg->effects.base_mass_kg != 0.0f || (ls && !ls_flows_hold(cfg, n, kt_max, split))) {
         ss_actuator_coarse_kicked_bounds_f32(co, cfg->friction_model);
     }
     rod_flow(cfg, dt, co->phi);
@@ -773,15 +791,25 @@ SS_FORCE_INLINE uint32_t coarse_allowed(const ss_actuator_config_f32_t *cfg,
  * M_C u'' = F0 + load + kt (w t - u), u(0) = 0, u'(0) = v_s0, solved exactly over dt. With om^2 =
  * kt / M_C: u = a_s (1 - cos om dt) / om^2 + w dt + (v_s0 - w) sin(om dt) / om, and u' = a_s sin(om
  * dt) / om + w + (v_s0 - w) cos(om dt); the three functions in series in x = (om dt)^2 to x^2 (the
- * next term at most x^3 / 720 = 1.4e-6 at x = 0.1, 2.4e-8 at Table I's 6 us). Past 0.1 (and at x <=
- * 0) the kick-drift-kick's: u = v_s0 dt + a_s dt^2 / 2, u' its two kicks, the closing one with the
- * linear contact's force at u. The kick-drift-kick is this flow to first order in x, its ring's
- * frequency x / 24 high: on LS's slider, which rings at 4.3 kHz through a stick (x = 0.026 in 6
- * us), that put 0.1-0.2 % into a cycle's step over the slow edge's eight periods (docs/model.md). */
+ * next term at most x^3 / 720 = 1.4e-6 at x = 0.1, 2.4e-8 at Table I's 6 us), and from 0.1 to
+ * SS_COARSE_FLOW_X_LONG_MAX to x^3 (the next at most x^4 / 40320 = 6.3e-7 at 0.4; a split step of 12
+ * us reaches 0.1 on Table I). Past that (and at x <= 0) the kick-drift-kick's: u = v_s0 dt + a_s dt^2 / 2, u'
+ * its two kicks, the closing one with the linear contact's force at u. The kick-drift-kick is this flow to
+ * first order in x, its ring's frequency x / 24 high: on LS's slider, which rings at 4.3 kHz through a stick
+ * (x = 0.026 in 6 us), that put 0.1-0.2 % into a cycle's step over the slow edge's eight periods
+ * (docs/model.md). */
 SS_FORCE_INLINE void slider_flow(float kt, float inv_mc, float dt, float a_s, float v_s0, float w, float *u,
                                  float *ud)
 {
     const float x = kt * dt * dt * inv_mc;
+    if (x >= SS_COARSE_FLOW_X_MAX && x < SS_COARSE_FLOW_X_LONG_MAX) { /* a split step's longer reach */
+        const float cos_x = 1.0f - 0.5f * x * (1.0f - x / 12.0f * (1.0f - x / 30.0f));
+        const float sin_over = dt * (1.0f - x / 6.0f * (1.0f - x / 20.0f * (1.0f - x / 42.0f)));
+        const float one_less = dt * dt * (0.5f - x / 24.0f * (1.0f - x / 30.0f * (1.0f - x / 56.0f)));
+        *u = a_s * one_less + w * dt + (v_s0 - w) * sin_over;
+        *ud = a_s * sin_over + w + (v_s0 - w) * cos_x;
+        return;
+    }
     if (!(x > 0.0f && x < SS_COARSE_FLOW_X_MAX)) {
         *u = (v_s0 + 0.5f * a_s * dt) * dt;
         *ud = v_s0 + a_s * dt + 0.5f * x * (w * dt - *u) / dt;
@@ -792,6 +820,89 @@ SS_FORCE_INLINE void slider_flow(float kt, float inv_mc, float dt, float a_s, fl
     const float one_less = dt * dt * (0.5f - x / 24.0f * (1.0f - x / 30.0f)); /* (1 - cos) / om^2 */
     *u = a_s * one_less + w * dt + (v_s0 - w) * sin_over;
     *ud = a_s * sin_over + w + (v_s0 - w) * cos_x;
+}
+
+/* LS's contact stiffness, N/m: its Masing branch's tangent times the level's share of Fs and the
+ * asymmetry (ss_ls_force_at_f32's dF/dx, at the unscaled Fs) */
+SS_FORCE_INLINE float ls_contact_stiffness(const ss_actuator_config_f32_t *cfg,
+                                           const ss_actuator_state_f32_t *st)
+{
+    const ss_friction_config_f32_t *f = &cfg->friction;
+    return ss_asymmetry_inline_f32(f, st->fr.ls.fm_n) * (st->fr.ls.level_n / f->fs_n) * st->fr.ls.kt_n_per_m;
+}
+
+/* LS's split step, a coarse step of 3 dt or more (docs/model.md, "The split step"): the rod is split
+ * into its quasi-static response to the strain and the contact's force, x_q = x_p - c b / k - F / k
+ * (its velocity v_q = (b + rho v_s) / (1 + rho) with rho = kt / k), and its free 69 kHz ring about
+ * it, r = x_rod - x_q, which takes the rod's own flow phi. The slider sees the contact without the
+ * ring: its flow on the contact in series with the stack (kt / (1 + rho)), from the force less the
+ * ring's share (kt r + sigma2 r'), its other end riding on the strain's ramp b. In the held form
+ * the ring's travel over the step went into the slider's flow and the rod was kicked by the force's
+ * change, which rang it: the 69 kHz mode turns 5.2 rad in 12 us, and held steps of 9 us were 0.3 %
+ * off where split ones of 12 us hold 0.07 %. The law advances over the contact's whole travel, the
+ * ring's included (its memory sees the rod as it is), and F1 is linearised about the flow's force
+ * plus the ring's. */
+SS_FORCE_INLINE ss_status_t split_step_over(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
+                                            const float phi[4], float dt, float drive_v, float kt)
+{
+    carry_t c;
+    const float half = 0.5f * dt;
+    const float f0 = st->force_n;
+    const float load = cfg->effects.load_n;
+    const float s2 = cfg->friction.sigma2_ns_per_m;
+    const float inv_k = 1.0f / cfg->piezo_stiffness_n_per_m;
+    const float inv_mc = 1.0f / cfg->slider_mass_kg;
+    c.dt = dt;
+    const float x_p0 = st->x_p_m;
+    const float x_p1 =
+        ss_effects_drive_inline_f32(&cfg->effects, &st->fx, cfg->piezo_gain_m_per_v, drive_v, dt);
+    const float b = (x_p1 - x_p0) / dt;
+    const float lag = cfg->piezo_damping_kg_per_s * b * inv_k;
+    const float rho = kt * inv_k;
+    const float in_series = 1.0f / (1.0f + rho);
+    const float v_s0 = st->v_slider_m_per_s;
+    /* the ring at the start: x_rod - x_q with the force less the ring's own share, kt r */
+    const float r0 = (st->x_rod_m - x_p0 + lag + f0 * inv_k) * in_series;
+    const float rd0 = st->v_rod_m_per_s - (b + rho * v_s0) * in_series;
+    const float f0s = f0 - kt * r0 - s2 * rd0;
+    const float ks = kt * in_series;
+    float u;
+    float ud;
+    slider_flow(ks, inv_mc, dt, (f0s + load) * inv_mc, v_s0, b, &u, &ud);
+    const float f_ref = f0s + ks * (b * dt - u);
+    const float r1 = phi[0] * r0 + phi[1] * rd0;
+    const float rd1 = phi[2] * r0 + phi[3] * rd0;
+    const float vq1 = (b + rho * ud) * in_series;
+    /* the contact's travel: the quasi-static rod's (the strain's less the force's change over k) and
+     * the ring's, less the slider's */
+    c.dx_rel = b * dt - (f_ref - f0s) * inv_k + (r1 - r0) - u;
+    c.v_start = st->v_rod_m_per_s - v_s0;
+    turn_between(cfg, vq1 + rd1 - ud, &c);
+    position_add(&st->x_slider, u);
+    st->x_p_m = x_p1;
+    st->drive_v = drive_v;
+    c.v_free = vq1 + rd1 - ud;
+
+    ss_friction_config_f32_t scaled;
+    const ss_friction_config_f32_t *fr = friction_config(cfg, st, &scaled);
+    friction_advance(cfg, st, fr, &c);
+    ss_friction_slopes_f32_t slopes;
+    const float f_free = friction_force(cfg, st, fr, &c, &slopes);
+    /* F1 = f_free - dF/dv (F1 - f_ref) dt / 2 M_C: the slider's closing kick alone (the rod is not
+     * kicked: its quasi-static part follows F1) */
+    const float f_ring = f_ref + kt * r1 + s2 * rd1;
+    const float g = slopes.dfdv_ns_per_m * half * inv_mc;
+    st->force_n = (1.0f + g > 0.1f) ? (f_free + g * f_ring) / (1.0f + g) : f_free;
+    if (cfg->effects.thermal_coeff_per_j != 0.0f) {
+        ss_effects_heat_f32(&cfg->effects, &st->fx, 0.5f * (f0 + st->force_n) * c.dx_rel, dt);
+    }
+    st->v_slider_m_per_s = ud + (st->force_n - f_ring) * inv_mc * half;
+    /* the rod: quasi-static under F1 less the ring's share, and the ring */
+    const float f1s = st->force_n - kt * r1 - s2 * rd1;
+    st->x_rod_m = x_p1 - lag - f1s * inv_k + r1;
+    st->v_rod_m_per_s = (b + rho * st->v_slider_m_per_s) * in_series + rd1;
+    st->steps++;
+    return SS_OK;
 }
 
 /* A coarse step over dt (the rod's flow phi over it): the friction reaches the rod through its
@@ -808,13 +919,17 @@ SS_FORCE_INLINE void slider_flow(float kt, float inv_mc, float dt, float a_s, fl
  * force that flow ends with, and the slider is kicked by F1 - f_ref. A base (whose kicks this
  * step does not make) takes the fine step's form over dt. */
 SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg, ss_actuator_state_f32_t *st,
-                                             const float phi[4], float dt, float drive_v)
+                                             const float phi[4], float dt, float drive_v, int split)
 {
     if (cfg->effects.base_mass_kg != 0.0f) {
         return step_over(cfg, st, phi, dt, drive_v, 0.0f, 0.0f);
     }
     if (!isfinite(drive_v)) {
         return SS_ERR_NONFINITE;
+    }
+    const int ls = cfg->friction_model == SS_FRICTION_LS;
+    if (ls && split) {
+        return split_step_over(cfg, st, phi, dt, drive_v, ls_contact_stiffness(cfg, st));
     }
     carry_t c;
     const float half = 0.5f * dt;
@@ -834,11 +949,7 @@ SS_FORCE_INLINE ss_status_t coarse_step_over(const ss_actuator_config_f32_t *cfg
     /* the contact's stiffness: LS's (its Masing branch's tangent times the level's share of Fs and
      * the asymmetry: ss_ls_force_at_f32's dF/dx, at the unscaled Fs), LuGre's bristles (at rest in a
      * stick) */
-    const ss_friction_config_f32_t *f = &cfg->friction;
-    const int ls = cfg->friction_model == SS_FRICTION_LS;
-    const float kt =
-        ls ? ss_asymmetry_inline_f32(f, st->fr.ls.fm_n) * (st->fr.ls.level_n / f->fs_n) * st->fr.ls.kt_n_per_m
-           : f->sigma0_n_per_m;
+    const float kt = ls ? ls_contact_stiffness(cfg, st) : cfg->friction.sigma0_n_per_m;
     const float f_rod = f0 + kt * c.v_start * dt; /* the rod's closing kick is F1 - f_rod, */
     float f_ref = f0;                             /* F1 is linearised about f_ref, */
     float f_slider = -load; /* the slider's closing kick F1 - f_slider (kicked: F1 + load) */
@@ -1004,7 +1115,8 @@ SS_FORCE_INLINE ss_status_t coarse_step(const ss_actuator_config_f32_t *cfg,
             phi = phi_m;
         }
     }
-    const ss_status_t status = coarse_step_over(cfg, st, phi, dt, drive_end);
+    const ss_status_t status =
+        coarse_step_over(cfg, st, phi, dt, drive_end, co->split_min_n != 0u && m >= co->split_min_n);
     *taken = 0u;
     if (status == SS_OK) {
         *wst = w;

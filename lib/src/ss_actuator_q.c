@@ -303,8 +303,14 @@ SS_NOINLINE void corner_response(const ss_actuator_config_q_t *cfg, int32_t h_q4
         ss_shr_round(ss_mul_s32_s64((int32_t)ss_shr_round(hw * p0, 30), cfg->inv_dt_q47), 47 - SS_QF_DXDT);
 }
 
-/* The slider flow's series holds below x = 0.1 (SS_COARSE_FLOW_X_MAX of the float family), in Q30 */
+/* The slider flow's series holds below x = 0.1 (SS_COARSE_FLOW_X_MAX of the float family), in Q30,
+ * and with one more term below 0.4 (SS_COARSE_FLOW_X_LONG_MAX) */
 #define SS_ACT_Q_FLOW_X_MAX_Q30 (SS_Q30_ONE / 10)
+#define SS_ACT_Q_FLOW_X_LONG_MAX_Q30 429496730
+
+/* 1/42 and 1/56 in Q30, rounded: the longer series' last factors */
+#define SS_ACT_Q_42ND_Q30 25565282
+#define SS_ACT_Q_56TH_Q30 19173962
 
 /* 1/12, 1/20 and 1/30 in Q30, rounded: the slider flow's series (with SS_ACT_Q_SIXTH_Q30) */
 #define SS_ACT_Q_12TH_Q30 89478485
@@ -335,6 +341,27 @@ SS_FORCE_INLINE int64_t one_less_q30(int64_t a, int64_t b)
     return SS_Q30_ONE - ss_shr_round(ss_mul_s32_s64((int32_t)a, (int32_t)(SS_Q30_ONE - b)), 30);
 }
 
+/* x * c in Q30, x and c in Q30 */
+SS_FORCE_INLINE int64_t times_q30(int64_t x, int64_t c)
+{
+    return ss_shr_round(ss_mul_s32_s64((int32_t)x, (int32_t)c), 30);
+}
+
+/* The slider flow's three series with one more term, for 0.1 <= x < 0.4 (a split step's longer
+ * reach; the float family's slider_flow): cos = 1 - x/2 (1 - x/12 (1 - x/30)), sin / (om dt) = 1 -
+ * x/6 (1 - x/20 (1 - x/42)), 2 (1 - cos) / (om dt)^2 = 1 - x/12 (1 - x/30 (1 - x/56)), in Q30. Out
+ * of line: Table I's steps stay below 0.1. */
+SS_NOINLINE void long_series_q30(int32_t x, int64_t *cos_x, int64_t *sin_over, int64_t *one_less)
+{
+    const int64_t x12 = times_q30(x, SS_ACT_Q_12TH_Q30);
+    const int64_t x30 = times_q30(x, SS_ACT_Q_30TH_Q30);
+    *cos_x = one_less_q30(x / 2, times_q30(x12, SS_Q30_ONE - x30));
+    *sin_over = one_less_q30(
+        times_q30(x, SS_ACT_Q_SIXTH_Q30),
+        times_q30(times_q30(x, SS_ACT_Q_20TH_Q30), SS_Q30_ONE - times_q30(x, SS_ACT_Q_42ND_Q30)));
+    *one_less = one_less_q30(x12, times_q30(x30, SS_Q30_ONE - times_q30(x, SS_ACT_Q_56TH_Q30)));
+}
+
 /* LS's slider in a coarse step, as the float family's slider_flow (ss_actuator_f32.c): its exact
  * flow on the contact's stiffness kt (N/m), whose other end rides on the rod (dx_rod over dt),
  * under the force F0 + load (dv_half: its half kick, m/s at 2^-28), from v_s0 (m/s at 2^-28): the
@@ -350,14 +377,16 @@ SS_FORCE_INLINE void slider_flow_q(const ss_actuator_config_q_t *cfg, int32_t kt
     int64_t cos_x = SS_Q30_ONE;    /* cos(om dt), om^2 = kt / M_C */
     int64_t sin_over = SS_Q30_ONE; /* sin(om dt) / (om dt) */
     int64_t one_less = SS_Q30_ONE; /* 2 (1 - cos(om dt)) / (om dt)^2 */
-    const int series = x > 0 && x < SS_ACT_Q_FLOW_X_MAX_Q30;
-    if (series) { /* x and every factor below 2^31: 32 x 32 -> 64 products */
+    const int series = x > 0 && x < SS_ACT_Q_FLOW_X_LONG_MAX_Q30;
+    if (series && x < SS_ACT_Q_FLOW_X_MAX_Q30) { /* x and every factor below 2^31: 32 x 32 -> 64 products */
         const int32_t x32 = (int32_t)x;
         const int64_t x12 = ss_shr_round(ss_mul_s32_s64(x32, SS_ACT_Q_12TH_Q30), 30);
         cos_x = one_less_q30(x / 2, x12);
         sin_over = one_less_q30(ss_shr_round(ss_mul_s32_s64(x32, SS_ACT_Q_SIXTH_Q30), 30),
                                 ss_shr_round(ss_mul_s32_s64(x32, SS_ACT_Q_20TH_Q30), 30));
         one_less = one_less_q30(x12, ss_shr_round(ss_mul_s32_s64(x32, SS_ACT_Q_30TH_Q30), 30));
+    } else if (series) { /* a split step's longer reach */
+        long_series_q30((int32_t)x, &cos_x, &sin_over, &one_less);
     }
     const int64_t w = ss_velocity_q28(dx_rod, cfg->inv_dt_q47);
     const int32_t dv = (int32_t)ss_clamp64(v_s0 - w, -INT32_MAX, INT32_MAX);
@@ -551,6 +580,107 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
             ls_flow ? ss_sat32(st->v_slider_q28 + slider_dv_q28(cfg, (int64_t)st->force_q24 - f_ref))
                     : slider_kicked_q28(cfg, st, st->force_q24);
     }
+    st->steps++;
+    return SS_OK;
+}
+
+/* x / (1 + rho) for the split step, by (1 + rho)'s reciprocal m 2^-sh (rho in Q30) */
+SS_FORCE_INLINE int64_t in_series_q(int64_t x, int32_t m, int sh)
+{
+    return ss_mul_recip_q(ss_sat32(x), m, sh - 30);
+}
+
+/* The viscous force sigma2 v: N s/m in Q16 times m/s at 2^-28 is N at 2^-44 */
+SS_FORCE_INLINE int64_t viscous_q24(const ss_actuator_config_q_t *cfg, int64_t v_q28)
+{
+    return ss_shr_round(ss_mul_s32_s64(cfg->friction.sigma2_q16, ss_sat32(v_q28)), 20);
+}
+
+/* LS's split step (the float family's split_step_over, ss_actuator_f32.c): the rod split into its
+ * quasi-static part (x_p - c b / k - F / k) and its free ring about it, which takes the rod's flow
+ * (phi_q28); the slider's flow on the contact in series with the stack (kt / (1 + rho), rho = kt /
+ * k), from the force less the ring's share; the law over the contact's whole travel. The rod is not
+ * kicked, so that a split config's kick_rod_q40 may be past its format (saturated by
+ * ss_actuator_coarse_to_q: LS's 12 us at 1.5 us on Table I's rod). compliance_q56: 1 / k, m/N at
+ * 2^-56. */
+SS_NOINLINE ss_status_t step_split_ls(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
+                                      int32_t drive_q16, int32_t compliance_q56)
+{
+    if (cfg->inv_dt_q47 <= 0) {
+        return SS_ERR_RANGE; /* cfg did not pass init */
+    }
+    const int32_t kt = ls_stiffness(cfg, st);
+    const int32_t f0 = st->force_q24;
+    const int32_t x_p0 = st->x_p_q40;
+    const int32_t x_p1 = piezo_strain_q40(cfg, st, drive_q16, cfg->effects.slew_q24);
+    const int32_t dxp = ss_sat32((int64_t)x_p1 - x_p0);
+    const int64_t b = ss_velocity_q28(dxp, cfg->inv_dt_q47);
+    /* c b / k over the step, m at 2^-40 */
+    const int64_t lag = ss_shr_round(ss_mul_s32_s64(cfg->lag_q24, dxp), SS_QF_LAG);
+    /* rho = kt / k in Q30: N/m times m/N at 2^-56; then 1 / (1 + rho) as m 2^-sh */
+    const int64_t rho = ss_shr_round(ss_mul_s32_s64(kt, compliance_q56), 26);
+    int sh = 0;
+    const int32_t m = ss_reciprocal_mantissa_q((uint32_t)ss_clamp64(SS_Q30_ONE + rho, 1, INT32_MAX), &sh);
+    const int32_t rho32 = ss_sat32(rho);
+    const int32_t v_s0 = st->v_slider_q28;
+    /* the ring at the start: x_rod - x_q, the force less the ring's share */
+    const int64_t f0_k = ss_shr_round(ss_mul_s32_s64(f0, compliance_q56), 40); /* F0 / k, m at 2^-40 */
+    const int32_t r0 = ss_sat32(in_series_q((int64_t)st->x_rod_q40 - x_p0 + lag + f0_k, m, sh));
+    const int64_t vq0 = in_series_q(b + ss_shr_round(ss_mul_s32_s64(rho32, v_s0), 30), m, sh);
+    const int32_t rd0 = ss_sat32((int64_t)st->v_rod_q28 - vq0);
+    const int64_t f0s = (int64_t)f0 - contact_q24(kt, r0) - viscous_q24(cfg, rd0);
+    const int32_t ks = ss_sat32(in_series_q(kt, m, sh));
+    int32_t u = 0;
+    int32_t ud = 0;
+    slider_flow_q(cfg, ks, dxp, slider_dv_q28(cfg, (int64_t)cfg->effects.load_q24 + f0s), v_s0, &u, &ud);
+    const int64_t f_ref = f0s + contact_q24(ks, ss_sat32((int64_t)dxp - u));
+    /* the ring's free flow: e1 = phi00 e0 + (phi01 / dt) (e0' dt), e1' = (phi10 dt) e0 / dt + phi11 e0' */
+    const int32_t *phi = cfg->phi_q28;
+    const int64_t w = ss_sat32(ss_shr_round(ss_mul_s32_s64(rd0, phi[1]), 28));
+    const int32_t r1 = ss_sat32(ss_shr_round(ss_mul_s32_s64(r0, phi[0]), 28) +
+                                ss_shr_round(ss_mul_i64_i32(w, cfg->dt_q40), 28));
+    const int32_t rd1 = ss_sat32(ss_mul_shr_round_wide(ss_mul_s32_s64(r0, phi[2]), cfg->inv_dt_q47, 47) +
+                                 ss_shr_round(ss_mul_s32_s64(rd0, phi[3]), 28));
+    const int64_t vq1 = in_series_q(b + ss_shr_round(ss_mul_s32_s64(rho32, ud), 30), m, sh);
+    /* the contact's travel: the quasi-static rod's, the ring's, less the slider's */
+    const int64_t df_k = ss_shr_round(ss_mul_s32_s64(ss_sat32(f_ref - f0s), compliance_q56), 40);
+    const int32_t dx_rel = ss_sat32((int64_t)dxp - df_k + ((int64_t)r1 - r0) - u);
+    const int64_t v_rel_start = (int64_t)st->v_rod_q28 - v_s0;
+    const int64_t p1 = vq1 + rd1 - ud;
+    st->x_slider_q40 += u;
+    st->x_p_q40 = x_p1;
+    st->drive_q16 = drive_q16;
+    if ((v_rel_start > 0 && p1 < 0) || (v_rel_start < 0 && p1 > 0)) {
+        ls_advance_turning(cfg, st, dx_rel, v_rel_start, p1);
+    } else {
+        ss_ls_advance_q(&cfg->friction, &st->fr.ls, dx_rel, cfg->inv_dt_q47);
+    }
+    ss_friction_slopes_q_t slopes;
+    int32_t f_free = ss_ls_force_at_q(&cfg->friction, &st->fr.ls, ss_sat32(p1), &slopes);
+    /* F1 = (F_free + g f_ring) / (1 + g), g = dF/dv dt / 2 M_C: the slider's closing kick alone */
+    const int32_t ring_f = ss_sat32(contact_q24(kt, r1) + viscous_q24(cfg, rd1));
+    const int32_t f_ring = ss_sat32(f_ref + ring_f);
+    const int64_t g = ss_shr_round((int64_t)slopes.dfdv_q16 * cfg->kick_slider_q40, 26);
+    const int64_t denom = SS_Q30_ONE + g;
+    if (denom > SS_ACT_Q_DENOM_MIN_Q30) {
+        f_free = ss_sat32((int64_t)f_free + ss_shr_round(ss_mul_i64_i32(g, f_ring), 30));
+    }
+    if (denom > SS_ACT_Q_DENOM_MIN_Q30 && denom <= INT32_MAX) {
+        int dsh = 0;
+        const int32_t dm = ss_reciprocal_mantissa_q((uint32_t)denom, &dsh);
+        st->force_q24 = ss_sat32(ss_mul_recip_q(f_free, dm, dsh - 30));
+    } else if (denom > SS_ACT_Q_DENOM_MIN_Q30) {
+        st->force_q24 = ss_sat32(ss_div_round((int64_t)f_free * SS_Q30_ONE, denom));
+    } else {
+        st->force_q24 = f_free;
+    }
+    st->v_slider_q28 = ss_sat32(ud + slider_dv_q28(cfg, (int64_t)st->force_q24 - f_ring));
+    /* the rod: quasi-static under F1 less the ring's share, and the ring */
+    const int64_t f1s = (int64_t)st->force_q24 - ring_f;
+    const int64_t f1_k = ss_shr_round(ss_mul_s32_s64(ss_sat32(f1s), compliance_q56), 40);
+    st->x_rod_q40 = ss_sat32((int64_t)x_p1 - lag - f1_k + r1);
+    st->v_rod_q28 =
+        ss_sat32(in_series_q(b + ss_shr_round(ss_mul_s32_s64(rho32, st->v_slider_q28), 30), m, sh) + rd1);
     st->steps++;
     return SS_OK;
 }
@@ -878,9 +1008,13 @@ ss_status_t ss_actuator_run_coarse_q(const ss_actuator_config_q_t *cfg, const ss
             } else {
                 const ss_actuator_config_q_t *c = (m == co->n) ? &co->cfg : &co->cfg_mid;
                 const int32_t compliance = (cfg->effects.base_kick_q40 == 0) ? co->compliance_q56 : 0;
-                status = (cfg->friction_model == SS_FRICTION_Q_LUGRE)
-                             ? step_held(c, st, drive_end, 0, 0, compliance, 0)
-                             : step_held_ls(c, st, drive_end, compliance);
+                if (cfg->friction_model == SS_FRICTION_Q_LUGRE) {
+                    status = step_held(c, st, drive_end, 0, 0, compliance, 0);
+                } else if (m == co->n && co->split != 0 && compliance != 0) {
+                    status = step_split_ls(c, st, drive_end, compliance);
+                } else {
+                    status = step_held_ls(c, st, drive_end, compliance);
+                }
                 if (status == SS_OK) {
                     *wst = w_end;
                     st->steps += m - 1u; /* step counted one */

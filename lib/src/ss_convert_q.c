@@ -114,8 +114,10 @@ static void rod_flow(double k, double c, double m, double dt, double phi[4])
     phi[3] = e * (co - sigma * si);
 }
 
-ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actuator_config_q_t *out,
-                                    const char **bad_field)
+/* ss_actuator_config_to_q; with split, for the config of LS's split steps, which never kick the rod:
+ * a kick_rod_q40 past its format saturates there, not an error (LS's 12 us steps on Table I's rod) */
+static ss_status_t config_to_q(const ss_actuator_config_f32_t *in, ss_actuator_config_q_t *out,
+                               const char **bad_field, int split)
 {
     const char *dummy = "";
     const char **bad = (bad_field != NULL) ? bad_field : &dummy;
@@ -166,7 +168,10 @@ ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actua
         return SS_ERR_RANGE;
     }
     out->lag_q24 = (int32_t)v;
-    if (!to_int(dt / (2.0 * (double)in->rod_mass_kg) * SS_QF_ONE(SS_QF_KICK), 1.0, 4294967295.0, &v)) {
+    const double kick_rod = dt / (2.0 * (double)in->rod_mass_kg) * SS_QF_ONE(SS_QF_KICK);
+    if (split && kick_rod >= 4294967295.0) {
+        v = (int64_t)UINT32_MAX; /* never used: the split step does not kick the rod */
+    } else if (!to_int(kick_rod, 1.0, 4294967295.0, &v)) {
         *bad = "rod_mass_kg";
         return SS_ERR_RANGE;
     }
@@ -282,6 +287,12 @@ int32_t ss_volts_to_q16(double v)
     return (int32_t)r;
 }
 
+ss_status_t ss_actuator_config_to_q(const ss_actuator_config_f32_t *in, ss_actuator_config_q_t *out,
+                                    const char **bad_field)
+{
+    return config_to_q(in, out, bad_field, 0);
+}
+
 ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t n,
                                     ss_actuator_coarse_q_t *out, const char **bad_field)
 {
@@ -298,7 +309,12 @@ ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t
     }
     ss_actuator_config_f32_t at_n = *in;
     at_n.dt_s = co.dt_s;
-    status = ss_actuator_config_to_q(&at_n, &out->cfg, bad);
+    const double compliance = ldexp(1.0, 56) / (double)in->piezo_stiffness_n_per_m;
+    /* LS's whole coarse steps of 3 dt or more take the split form where the stack's compliance fits
+     * and no base asks for the kicked form (ss_actuator_q.c, step_split_ls) */
+    const int split = co.split_min_n != 0u && n >= co.split_min_n && compliance < 2147483647.0 &&
+                      in->effects.base_mass_kg == 0.0f;
+    status = config_to_q(&at_n, &out->cfg, bad, split);
     if (status != SS_OK) {
         return status;
     }
@@ -307,7 +323,6 @@ ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t
     if (status != SS_OK) {
         return status;
     }
-    const double compliance = ldexp(1.0, 56) / (double)in->piezo_stiffness_n_per_m;
     out->compliance_q56 = (compliance < 2147483647.0) ? (int32_t)floor(compliance + 0.5) : 0;
     if (out->compliance_q56 == 0) { /* a stack too soft for the held form: the kicked form's bounds */
         ss_actuator_coarse_kicked_bounds_f32(&co, in->friction_model);
@@ -321,7 +336,7 @@ ss_status_t ss_actuator_coarse_to_q(const ss_actuator_config_f32_t *in, uint32_t
         (int32_t)floor((double)co.v_rel_mid_max_m_per_s * SS_QF_ONE(SS_QF_VELOCITY) + 0.5);
     out->ring_mid_max_q40 =
         (int32_t)floor((double)co.v_ring_mid_max_m_per_s * (double)at_n.dt_s * length + 0.5);
-    out->pad = 0;
+    out->split = split;
     return ss_actuator_coarse_stick_to_q(in, 0u, out, bad);
 }
 
