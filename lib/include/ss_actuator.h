@@ -95,8 +95,9 @@ ss_status_t ss_actuator_wave_step_f32(const ss_actuator_config_f32_t *cfg, ss_ac
  * its presliding stiffness, through the whole slow edge): there a step of 2 dt, in the coarse
  * step's form, holds as well (the ring's 120 points a period at 1 us; the rod's 69 kHz mode turns
  * 0.87 rad in it). Its bounds: the relative velocity (below the slip after a fall, -21 mm/s on
- * the paper's drive) and the rod's ring (LuGre 0.46 nm, LS 2.3 nm); each law's chosen on a grid
- * inside the region that holds 0.1 % over issue 17's drive matrix (docs/model.md). LS's own
+ * the paper's drive) and the rod's ring (LuGre 0.46 nm, LS 1.15 nm: 0.5 mm/s, chosen with LS's
+ * split steps of 8, docs/model.md "The split step"); each law's chosen on a grid inside the region
+ * that holds 0.1 % over issue 17's drive matrix (docs/model.md). LS's own
  * coarse bounds: its slider rings on the contact through the slow edge (|v_rel| 1-4 mm/s), which
  * its coarse step takes in an exact flow (ss_actuator_f32.c, slider_flow), so that it needs no
  * stick, only a contact that rings within 3 mm/s, and a rod ring of 0.69 nm (0.3 mm/s). */
