@@ -405,6 +405,36 @@ SS_FORCE_INLINE void slider_flow_q(const ss_actuator_config_q_t *cfg, int32_t kt
     *ud_q28 = ss_sat32(ud);
 }
 
+/* The rod's free flow over the config's step (phi_q28): e1 = phi00 e0 + (phi01 / dt) (e0' dt), e1' =
+ * (phi10 dt) e0 / dt + phi11 e0', for e0 (m at 2^-40) and e0' (m/s at 2^-28) within 32 bits: every
+ * product of two 32-bit values (w, e0' dt's velocity, saturated to 32 bits too) */
+SS_FORCE_INLINE void rod_free_flow_q(const ss_actuator_config_q_t *cfg, int64_t e0, int64_t ed0, int64_t *e1,
+                                     int64_t *ed1)
+{
+    const int32_t *phi = cfg->phi_q28;
+    const int64_t w = ss_sat32(ss_shr_round(ss_mul_i64_i32(ed0, phi[1]), 28)); /* m/s at 2^-28 */
+    *e1 = ss_shr_round(ss_mul_i64_i32(e0, phi[0]), 28) + ss_shr_round(ss_mul_i64_i32(w, cfg->dt_q40), 28);
+    *ed1 = ss_mul_shr_round_wide(ss_mul_i64_i32(e0, phi[2]), cfg->inv_dt_q47, 47) +
+           ss_shr_round(ss_mul_i64_i32(ed0, phi[3]), 28);
+}
+
+/* The step's force F_free / denom (denom in Q30, the implicit damping's 1 + g): by denom's reciprocal
+ * m 2^-sh where denom is in (0.1 x 2^30, 2^31) (sh in [57, 61], F_free m / 2^(sh - 30) one product),
+ * by a division above (damping past the masses' dt/2: g >= 1), and F_free itself below the bound
+ * (as the float takes it) */
+SS_FORCE_INLINE int32_t over_denom_q24(int32_t f_free, int64_t denom)
+{
+    if (denom > SS_ACT_Q_DENOM_MIN_Q30 && denom <= INT32_MAX) {
+        int sh = 0;
+        const int32_t m = ss_reciprocal_mantissa_q((uint32_t)denom, &sh);
+        return ss_sat32(ss_mul_recip_q(f_free, m, sh - 30));
+    }
+    if (denom > SS_ACT_Q_DENOM_MIN_Q30) {
+        return ss_sat32(ss_div_round((int64_t)f_free * SS_Q30_ONE, denom));
+    }
+    return f_free;
+}
+
 /* A step (ss_actuator_step_q), with the drive bending at corner_frac_q30 of it to corner_q16 when
  * corner_frac_q30 > 0 (ss_actuator_step_corner_q). compliance_q56 0: the fine step, which kicks the
  * rod with the friction at both ends. Else a coarse step (no corner, no base) in the float family's
@@ -480,14 +510,9 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
         ss_mul_s32_s64(cfg->lag_q24, ss_sat32((int64_t)x_p1 - st->x_p_q40 - (held1 - held))), SS_QF_LAG);
     const int64_t e0 = ss_sat32((int64_t)st->x_rod_q40 - (a0 - held - lag));
     const int64_t ed0 = ss_sat32((int64_t)st->v_rod_q28 - b);
-    const int32_t *phi = cfg->phi_q28;
-    /* e1 = phi00 e0 + (phi01/dt) (e0' dt);  e1' = (phi10 dt) e0 / dt + phi11 e0' */
-    /* e0, ed0 and w are saturated to 32 bits: every product here is of two 32-bit values */
-    const int64_t w = ss_sat32(ss_shr_round(ss_mul_i64_i32(ed0, phi[1]), 28)); /* m/s at 2^-28 */
-    const int64_t e1 =
-        ss_shr_round(ss_mul_i64_i32(e0, phi[0]), 28) + ss_shr_round(ss_mul_i64_i32(w, cfg->dt_q40), 28);
-    const int64_t ed1 = ss_mul_shr_round_wide(ss_mul_i64_i32(e0, phi[2]), cfg->inv_dt_q47, 47) +
-                        ss_shr_round(ss_mul_i64_i32(ed0, phi[3]), 28);
+    int64_t e1 = 0;
+    int64_t ed1 = 0;
+    rod_free_flow_q(cfg, e0, ed0, &e1, &ed1);
     int64_t dx_corner = 0;
     int64_t dv_corner = 0;
     if (corner) {
@@ -559,18 +584,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
          * or LS's linearised contact's); below the bound, F_free as the float takes it */
         f_free = ss_sat32((int64_t)f_free + ss_shr_round(ss_mul_i64_i32(g, f_ref), 30));
     }
-    if (denom > SS_ACT_Q_DENOM_MIN_Q30 && denom <= INT32_MAX) {
-        /* F_free / denom by denom's reciprocal m 2^-sh: denom in (0.1 x 2^30, 2^31), sh in
-         * [57, 61], F_free m / 2^(sh - 30) one product */
-        int sh = 0;
-        const int32_t m = ss_reciprocal_mantissa_q((uint32_t)denom, &sh);
-        st->force_q24 = ss_sat32(ss_mul_recip_q(f_free, m, sh - 30));
-    } else if (denom > SS_ACT_Q_DENOM_MIN_Q30) {
-        /* damping above the masses' dt/2 (dF/dv dt/2 (1/M_R + 1/M_c) >= 1): divide */
-        st->force_q24 = ss_sat32(ss_div_round((int64_t)f_free * SS_Q30_ONE, denom));
-    } else {
-        st->force_q24 = f_free;
-    }
+    st->force_q24 = over_denom_q24(f_free, denom);
 
     if (compliance_q56 == 0) {
         kick(cfg, st);
@@ -634,13 +648,12 @@ SS_NOINLINE ss_status_t step_split_ls(const ss_actuator_config_q_t *cfg, ss_actu
     int32_t ud = 0;
     slider_flow_q(cfg, ks, dxp, slider_dv_q28(cfg, (int64_t)cfg->effects.load_q24 + f0s), v_s0, &u, &ud);
     const int64_t f_ref = f0s + contact_q24(ks, ss_sat32((int64_t)dxp - u));
-    /* the ring's free flow: e1 = phi00 e0 + (phi01 / dt) (e0' dt), e1' = (phi10 dt) e0 / dt + phi11 e0' */
-    const int32_t *phi = cfg->phi_q28;
-    const int64_t w = ss_sat32(ss_shr_round(ss_mul_s32_s64(rd0, phi[1]), 28));
-    const int32_t r1 = ss_sat32(ss_shr_round(ss_mul_s32_s64(r0, phi[0]), 28) +
-                                ss_shr_round(ss_mul_i64_i32(w, cfg->dt_q40), 28));
-    const int32_t rd1 = ss_sat32(ss_mul_shr_round_wide(ss_mul_s32_s64(r0, phi[2]), cfg->inv_dt_q47, 47) +
-                                 ss_shr_round(ss_mul_s32_s64(rd0, phi[3]), 28));
+    /* the ring's free flow */
+    int64_t e1 = 0;
+    int64_t ed1 = 0;
+    rod_free_flow_q(cfg, r0, rd0, &e1, &ed1);
+    const int32_t r1 = ss_sat32(e1);
+    const int32_t rd1 = ss_sat32(ed1);
     const int64_t vq1 = in_series_q(b + ss_shr_round(ss_mul_s32_s64(rho32, ud), 30), m, sh);
     /* the contact's travel: the quasi-static rod's, the ring's, less the slider's */
     const int64_t df_k = ss_shr_round(ss_mul_s32_s64(ss_sat32(f_ref - f0s), compliance_q56), 40);
@@ -665,15 +678,7 @@ SS_NOINLINE ss_status_t step_split_ls(const ss_actuator_config_q_t *cfg, ss_actu
     if (denom > SS_ACT_Q_DENOM_MIN_Q30) {
         f_free = ss_sat32((int64_t)f_free + ss_shr_round(ss_mul_i64_i32(g, f_ring), 30));
     }
-    if (denom > SS_ACT_Q_DENOM_MIN_Q30 && denom <= INT32_MAX) {
-        int dsh = 0;
-        const int32_t dm = ss_reciprocal_mantissa_q((uint32_t)denom, &dsh);
-        st->force_q24 = ss_sat32(ss_mul_recip_q(f_free, dm, dsh - 30));
-    } else if (denom > SS_ACT_Q_DENOM_MIN_Q30) {
-        st->force_q24 = ss_sat32(ss_div_round((int64_t)f_free * SS_Q30_ONE, denom));
-    } else {
-        st->force_q24 = f_free;
-    }
+    st->force_q24 = over_denom_q24(f_free, denom);
     st->v_slider_q28 = ss_sat32(ud + slider_dv_q28(cfg, (int64_t)st->force_q24 - f_ring));
     /* the rod: quasi-static under F1 less the ring's share, and the ring */
     const int64_t f1s = (int64_t)st->force_q24 - ring_f;

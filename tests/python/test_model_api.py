@@ -331,6 +331,18 @@ def test_stick_flow_is_the_linear_contacts_exponential(stick_n):
     assert err < 1e-6
 
 
+def _edge_rows(w, ref):
+    """The last rows of ref before each of w's fast edges (a forward sawtooth's), and ref's steps
+    between them after the first (from rest): each cycle read where the slider has stuck longest,
+    not interpolated across the slip at the period's boundary."""
+    t = ref.t_s - ref.t_s[0]
+    edges = (np.arange(w.cycles) + w.rise_fraction) / w.frequency_hz
+    rows = np.searchsorted(t + 1e-9, edges, side="right") - 1
+    s_ref = np.diff(ref.x_slider_m[rows])[1:]
+    assert np.all(np.abs(s_ref) > 1e-6)
+    return rows, s_ref
+
+
 def test_stick_steps_at_one_and_a_half_us():
     # LuGre at LS's 1.5 us, coarse steps of 4, stick steps of 40 (rows every 60 us), its fine
     # steps on a fast edge in four parts: float and q each within issue 17's 0.1 % of the
@@ -340,11 +352,7 @@ def test_stick_steps_at_one_and_a_half_us():
     # last row before each fast edge (a period is 33.3 rows)
     for w in (Sawtooth(cycles=6), Sawtooth(frequency_hz=1000.0, cycles=10).with_fall_time(15e-6)):
         ref = simulate(w, model="lugre", dt_s=0.125e-6, decimation=480)
-        t = ref.t_s - ref.t_s[0]
-        edges = (np.arange(w.cycles) + w.rise_fraction) / w.frequency_hz
-        rows = np.searchsorted(t + 1e-9, edges, side="right") - 1
-        s_ref = np.diff(ref.x_slider_m[rows])[1:]
-        assert np.all(np.abs(s_ref) > 1e-6)
+        rows, s_ref = _edge_rows(w, ref)
         kw = dict(model="lugre", dt_s=1.5e-6, decimation=40, coarse_steps=4, stick_steps=40)
         for variant in ("f32", "q"):
             r = simulate(w, variant=variant, **kw)
@@ -362,11 +370,7 @@ def test_ls_split_steps_at_twelve_us():
     # steps of 4 (float 0.243 against 0.311 a microsecond; at 2 kHz the slip's fine steps dominate)
     for w in (Sawtooth(cycles=6), Sawtooth(frequency_hz=2000.0, cycles=12).with_fall_time(15e-6)):
         ref = simulate(w, model="ls", dt_s=0.125e-6, decimation=96)
-        t = ref.t_s - ref.t_s[0]
-        edges = (np.arange(w.cycles) + w.rise_fraction) / w.frequency_hz
-        rows = np.searchsorted(t + 1e-9, edges, side="right") - 1
-        s_ref = np.diff(ref.x_slider_m[rows])[1:]
-        assert np.all(np.abs(s_ref) > 1e-6)
+        rows, s_ref = _edge_rows(w, ref)
         kw = dict(model="ls", dt_s=1.5e-6, decimation=8)
         short = simulate(w, coarse_steps=4, **kw)
         for variant in ("f32", "q"):
