@@ -367,7 +367,7 @@ def test_ls_split_steps_at_twelve_us():
     # 0.125 us on the paper's drive and a 15 us fall at 2 kHz (measured: float 0.069 / 0.071 %, q
     # 0.093 / 0.039 %; bench/step_study.py --models ls --steps-us 1.5 --coarse 8 --edge), read at
     # the last row before each fast edge, and on the paper's drive in fewer model steps than coarse
-    # steps of 4 (float 0.243 against 0.311 a microsecond; at 2 kHz the slip's fine steps dominate)
+    # steps of 4 (float 0.243 against 0.310 a microsecond; at 2 kHz the slip's fine steps dominate)
     for w in (Sawtooth(cycles=6), Sawtooth(frequency_hz=2000.0, cycles=12).with_fall_time(15e-6)):
         ref = simulate(w, model="ls", dt_s=0.125e-6, decimation=96)
         rows, s_ref = _edge_rows(w, ref)
