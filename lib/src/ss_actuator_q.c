@@ -94,7 +94,7 @@ ss_status_t ss_actuator_config_check_q(const ss_actuator_config_q_t *cfg, const 
 /* Ideal strain of a drive voltage: m/V at 2^-48 times V at 2^-16 is m at 2^-64. */
 static int32_t strain_q40(const ss_actuator_config_q_t *cfg, int32_t drive_q16)
 {
-    return ss_sat32(ss_shr_round((int64_t)cfg->piezo_gain_q48 * drive_q16, 24));
+    return ss_sat32(ss_shr_round(ss_mul_s32_s64(cfg->piezo_gain_q48, drive_q16), 24));
 }
 
 ss_status_t ss_actuator_init_q(const ss_actuator_config_q_t *cfg, ss_actuator_state_q_t *st,
@@ -201,7 +201,7 @@ static int32_t hysteresis_strain_q40(const ss_actuator_config_q_t *cfg, ss_actua
     const int64_t du = (int64_t)u - st->strain_q40;
     const int64_t adu = ss_abs64(du);
     const int64_t width = e->hysteresis_width_q40;
-    const int64_t h_inf = ss_sign32(du) * ss_shr_round((int64_t)e->hysteresis_alpha_q30 * width, 30);
+    const int64_t h_inf = ss_times_sign_of(ss_shr_round((int64_t)e->hysteresis_alpha_q30 * width, 30), du);
     /* |du| / width in Q32 from the reciprocal; beyond 24 widths exp(-x) is below 2^-34: 0 */
     const int64_t decay =
         (adu >= 24 * width)
@@ -553,7 +553,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
             known_kick += slider_dv_q28(cfg, (int64_t)cfg->effects.load_q24 + f0);
         }
     } else if (cfg->effects.load_q24 != 0) {
-        known_kick = ss_shr_round((int64_t)cfg->effects.load_q24 * cfg->kick_slider_q40, 36);
+        known_kick = ss_shr_round(ss_mul_s32_s64(cfg->effects.load_q24, cfg->kick_slider_q40), 36);
     }
     const int32_t v_free = ss_sat32((int64_t)st->v_rod_q28 - st->v_slider_q28 - known_kick);
     ss_friction_slopes_q_t slopes;
@@ -575,7 +575,7 @@ SS_FORCE_INLINE ss_status_t step_held(const ss_actuator_config_q_t *cfg, ss_actu
     /* N s/m in Q16 times (m/s)/N at 2^-40 is 2^-56: to Q30; and the rod's compliance the kicks
      * leave out, the contact's stiffness over sigma0 (Q30) times contact_lag_q30 (as the float) */
     const int64_t kicks = (int64_t)cfg->kick_rod_q40 + cfg->kick_slider_q40;
-    const int64_t g = ss_shr_round((int64_t)slopes.dfdv_q16 * kicks, 26);
+    const int64_t g = ss_shr_round(ss_mul_i64_i32(kicks, slopes.dfdv_q16), 26);
     const int64_t denom =
         SS_Q30_ONE + g +
         ((compliance_q56 == 0) ? ss_shr_round(ss_mul_s32_s64(slopes.dfdx_q30, cfg->contact_lag_q30), 30) : 0);
@@ -673,7 +673,7 @@ SS_NOINLINE ss_status_t step_split_ls(const ss_actuator_config_q_t *cfg, ss_actu
     /* F1 = (F_free + g f_ring) / (1 + g), g = dF/dv dt / 2 M_C: the slider's closing kick alone */
     const int32_t ring_f = ss_sat32(contact_q24(kt, r1) + viscous_q24(cfg, rd1));
     const int32_t f_ring = ss_sat32(f_ref + ring_f);
-    const int64_t g = ss_shr_round((int64_t)slopes.dfdv_q16 * cfg->kick_slider_q40, 26);
+    const int64_t g = ss_shr_round(ss_mul_s32_s64(slopes.dfdv_q16, cfg->kick_slider_q40), 26);
     const int64_t denom = SS_Q30_ONE + g;
     if (denom > SS_ACT_Q_DENOM_MIN_Q30) {
         f_free = ss_sat32((int64_t)f_free + ss_shr_round(ss_mul_i64_i32(g, f_ring), 30));
@@ -803,14 +803,24 @@ void ss_actuator_record_q(const ss_actuator_config_q_t *cfg, const ss_actuator_s
     }
 }
 
-/* The drive after m steps (*w_end: the player advanced a copy's m steps), and whether the rod's
- * ring over them is within ring_max_q40 (its travel at v_rod against the ideal strain's change). */
+/* The player's position (its phase and period) from src into dst, a player of the same waveform
+ * (the rest of it src's already): the player's fields that its steps change, without a copy of the
+ * whole (a call to memcpy on ARMv6-M). */
+SS_FORCE_INLINE void player_to(ss_waveform_state_q_t *dst, const ss_waveform_state_q_t *src)
+{
+    dst->phase_q64 = src->phase_q64;
+    dst->index = src->index;
+}
+
+/* The drive after m steps (*w_end, a player of the same waveform: advanced m steps from *wst), and
+ * whether the rod's ring over them is within ring_max_q40 (its travel at v_rod against the ideal
+ * strain's change). */
 SS_FORCE_INLINE int quiet_over(const ss_actuator_config_q_t *cfg, const ss_actuator_state_q_t *st,
                                const ss_waveform_config_q_t *wave, const ss_waveform_state_q_t *wst,
                                uint32_t m, int32_t dt_q40, int32_t ring_max_q40, ss_waveform_state_q_t *w_end,
                                int32_t *drive_end)
 {
-    *w_end = *wst;
+    player_to(w_end, wst);
     ss_waveform_advance_by_q(w_end, m);
     *drive_end = ss_waveform_value_q(wave, w_end);
     /* m/s at 2^-28 times s at 2^-40, and m/V at 2^-48 times V at 2^-16: both m at 2^-40 */
@@ -973,13 +983,13 @@ SS_NOINLINE int stick_try_q(const ss_actuator_config_q_t *cfg, const ss_actuator
                             ss_actuator_state_q_t *st, const ss_waveform_config_q_t *wave,
                             ss_waveform_state_q_t *wst, uint32_t max_steps)
 {
-    ss_waveform_state_q_t w_end;
+    ss_waveform_state_q_t w_end = *wst;
     int32_t drive_end = 0;
     if (!stick_allowed_q(cfg, co, st, wave, wst, max_steps, &w_end, &drive_end)) {
         return 0;
     }
     stick_step_q(cfg, co, st, drive_end);
-    *wst = w_end;
+    player_to(wst, &w_end);
     st->steps += co->stick_n - 1u; /* the step counted one */
     return 1;
 }
@@ -1000,8 +1010,8 @@ ss_status_t ss_actuator_run_coarse_q(const ss_actuator_config_q_t *cfg, const ss
     uint32_t left = n_steps;
     uint32_t to_row = decimation;
     ss_status_t status = SS_OK;
+    ss_waveform_state_q_t w_end = *wst; /* the player at a coarse step's end: its position alone moves */
     while (left > 0u && status == SS_OK) {
-        ss_waveform_state_q_t w_end;
         int32_t drive_end = 0;
         uint32_t taken = 1u;
         const uint32_t max_steps = (to_row < left) ? to_row : left;
@@ -1021,7 +1031,7 @@ ss_status_t ss_actuator_run_coarse_q(const ss_actuator_config_q_t *cfg, const ss
                     status = step_held_ls(c, st, drive_end, compliance);
                 }
                 if (status == SS_OK) {
-                    *wst = w_end;
+                    player_to(wst, &w_end);
                     st->steps += m - 1u; /* step counted one */
                     taken = m;
                 }

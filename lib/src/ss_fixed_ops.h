@@ -107,15 +107,32 @@ static inline int64_t ss_mul_i64(int64_t a, int64_t b)
     return a * b;
 }
 
-/* a b for uint64 a below 2^64 / b: as ss_mul_u32_u64 where a fits 32 bits. */
+/* a b's low 64 bits (all of it for a below 2^64 / b) from the halves of a's low word and one 32-bit
+ * product of its high word: on ARMv6-M instead of __aeabi_lmul. Compiled everywhere (tested). */
+static inline uint64_t ss_mul_u64_u32_halves(uint64_t a, uint32_t b)
+{
+    return ((uint64_t)((uint32_t)(a >> 32) * b) << 32) + ss_mul_u32_u64_halves((uint32_t)a, b);
+}
+
+/* a b for uint64 a below 2^64 / b: the halves on ARMv6-M (of a's low word alone where that is a),
+ * the plain product elsewhere. */
 static inline uint64_t ss_mul_u64_u32(uint64_t a, uint32_t b)
 {
 #if defined(__ARM_ARCH_6M__)
-    if ((a >> 32) == 0u) {
-        return ss_mul_u32_u64_halves((uint32_t)a, b);
-    }
-#endif
+    return ((a >> 32) == 0u) ? ss_mul_u32_u64_halves((uint32_t)a, b) : ss_mul_u64_u32_halves(a, b);
+#else
     return a * b;
+#endif
+}
+
+/* Does a b pass 2^64 (a b > UINT64_MAX, as a > UINT64_MAX / b for b > 0)? If not, *p = a b. Two
+ * 32 x 32 -> 64 products, no division. */
+static inline int ss_mul_u64_u32_overflows(uint64_t a, uint32_t b, uint64_t *p)
+{
+    const uint64_t lo = ss_mul_u32_u64((uint32_t)a, b);
+    const uint64_t top = ss_mul_u32_u64((uint32_t)(a >> 32), b) + (lo >> 32); /* < 2^64 */
+    *p = (top << 32) | (uint32_t)lo;
+    return (top >> 32) != 0u;
 }
 
 /* v / 2^s rounded to nearest (ties toward +infinity), 0 < s < 63, |v| <= 2^63 - 2^s, in two
@@ -207,9 +224,11 @@ static inline int64_t ss_abs64(int64_t v)
     return (v < 0) ? -v : v;
 }
 
-static inline int32_t ss_sign32(int64_t v)
+/* v times the sign of s (1, 0 or -1), by compares: a product by the sign would be a library call
+ * on ARMv6-M */
+static inline int64_t ss_times_sign_of(int64_t v, int64_t s)
 {
-    return (v > 0) ? 1 : ((v < 0) ? -1 : 0);
+    return (s > 0) ? v : ((s < 0) ? -v : 0);
 }
 
 /* Clamp into [lo, hi]. */

@@ -94,16 +94,23 @@ static void push_reversal(ss_ls_state_q_t *st)
     st->depth++;
 }
 
+/* Has a branch moving up (else down) reached a point d below (above) it: d dir >= 0, by compares
+ * (a product by +-1 is a library call on ARMv6-M) */
+static inline int reached(int up, int64_t d)
+{
+    return up ? d >= 0 : d <= 0;
+}
+
 /* Wiping-out, as in the float family: a branch that reaches the reversal point where the opposite
  * branch began closes that minor loop. */
 static void close_loops(ss_ls_state_q_t *st)
 {
-    const int64_t d = (st->dir > 0) ? 1 : -1; /* dir is +-1 here: set by the step that called us */
+    const int up = st->dir > 0; /* dir is +-1 here: set by the step that called us */
     for (;;) {
-        if (st->depth >= 2u && d * ((int64_t)st->x_q40 - st->rev[st->depth - 2u].x_q40) >= 0) {
+        if (st->depth >= 2u && reached(up, (int64_t)st->x_q40 - st->rev[st->depth - 2u].x_q40)) {
             st->depth = (uint8_t)(st->depth - 2u);
         } else if (st->depth == 1u &&
-                   d * ((int64_t)st->x_q40 - (2 * (int64_t)st->x0_q40 - st->rev[0].x_q40)) >= 0) {
+                   reached(up, (int64_t)st->x_q40 - (2 * (int64_t)st->x0_q40 - st->rev[0].x_q40))) {
             st->depth = 0u;
         } else {
             return;
@@ -120,13 +127,13 @@ static void eval_branch(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
         const int64_t u = (int64_t)st->x_q40 - st->x0_q40;
         const int64_t e = ss_exp_neg_q32_q30(exponent_fs_q32(cfg, u, 0));
         st->fm_q24 =
-            (int32_t)(ss_sign32(u) * ss_shr_round(ss_mul_i64_i32(fs, (int32_t)(SS_Q30_ONE - e)), 30));
+            (int32_t)ss_times_sign_of(ss_shr_round(ss_mul_i64_i32(fs, (int32_t)(SS_Q30_ONE - e)), 30), u);
         st->kt_q30 = (int32_t)e;
     } else {
         const ss_ls_reversal_q_t *r = &st->rev[st->depth - 1u];
         const int64_t e = ss_exp_neg_q32_q30(exponent_fs_q32(cfg, (int64_t)st->x_q40 - r->x_q40, 1));
-        const int64_t fm = r->f_q24 + ((st->dir > 0) ? 1 : -1) *
-                                          ss_shr_round(ss_mul_i64_i32(2 * fs, (int32_t)(SS_Q30_ONE - e)), 30);
+        const int64_t swing = ss_shr_round(ss_mul_i64_i32(2 * fs, (int32_t)(SS_Q30_ONE - e)), 30);
+        const int64_t fm = r->f_q24 + ((st->dir > 0) ? swing : -swing);
         st->fm_q24 = (int32_t)ss_clamp64(fm, -fs, fs); /* rounding must not push |F_M| past Fs */
         st->kt_q30 = (int32_t)e;
     }
@@ -140,7 +147,7 @@ static void rebase(const ss_friction_config_q_t *cfg, ss_ls_state_q_t *st)
     const int64_t u = (int64_t)st->x_q40 - st->x0_q40;
     const int64_t l_sat = cfg->sat_length_q40; /* SS_LS_Q_SATURATION_LENGTHS Fs / sigma0 */
     if (ss_abs64(u) > l_sat) {
-        st->x0_q40 = (int32_t)(-ss_sign32(u) * l_sat);
+        st->x0_q40 = (int32_t)ss_times_sign_of(-l_sat, u);
         st->x_q40 = 0;
     }
 }

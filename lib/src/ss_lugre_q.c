@@ -56,12 +56,12 @@ static int32_t force_at(const ss_friction_config_q_t *cfg, const ss_lugre_state_
          * |v| g' rounded to 2^-24 N (as in the LS element) */
         const int64_t vg =
             ss_mul_recip_q(ss_sat32(ss_shr_round(ss_mul_i64_i32(ss_abs64(v), slope), 20)), m, sh - 20);
-        const int64_t dzdv = SS_Q30_ONE - ss_sign32(v) * k + ss_shr_round(ss_mul_i64(k, vg), 20);
+        const int64_t dzdv = SS_Q30_ONE - ss_times_sign_of(k, v) + ss_shr_round(ss_mul_i64(k, vg), 20);
         *dfdv_q16 = ss_sat32(
             ss_asymmetric_inline_q(cfg, ss_shr_round(ss_mul_i64_i32(dzdv, cfg->sigma1_q16), 30), st->z_q40) +
             cfg->sigma2_q16);
         /* the relaxation's dz/dx = 1 - sgn(v) sigma0 z / g, Q30, none below 0 */
-        const int64_t dzdx = SS_Q30_ONE - ss_sign32(v) * k;
+        const int64_t dzdx = SS_Q30_ONE - ss_times_sign_of(k, v);
         slopes->dfdx_q30 = (dzdx > 0) ? ss_sat32(ss_asymmetric_inline_q(cfg, dzdx, st->z_q40)) : 0;
     }
     *zdot_q28 = zdot;
@@ -81,7 +81,7 @@ void ss_lugre_advance_q(const ss_friction_config_q_t *cfg, ss_lugre_state_q_t *s
     const int64_t g = ss_stribeck_q(cfg, v);
     /* g / sigma0 in m at 2^-40: N at 2^-24 times m/N at 2^-47 is m at 2^-71 */
     const int64_t z_ss =
-        ss_sign32(dx_q40) * ss_shr_round(ss_mul_i64_i32(g, cfg->inv_sigma0_q47), 47 - SS_QF_F_OVER_K);
+        ss_times_sign_of(ss_shr_round(ss_mul_i64_i32(g, cfg->inv_sigma0_q47), 47 - SS_QF_F_OVER_K), dx_q40);
     /* exponent sigma0 |dx| / g with 32 fraction bits, as in the LS element */
     const uint64_t num = ss_mul_u64_u32((uint64_t)ss_abs64(dx_q40), (uint32_t)cfg->sigma0_n_per_m);
     int sh = 0;

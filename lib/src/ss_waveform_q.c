@@ -138,11 +138,11 @@ void ss_waveform_advance_q(ss_waveform_state_q_t *st)
 
 void ss_waveform_advance_by_q(ss_waveform_state_q_t *st, uint32_t n)
 {
-    const uint64_t s = st->step_q64;
-    if (n > 4u && s <= UINT64_MAX / n) {
+    uint64_t sn = 0u;
+    if (n > 4u && !ss_mul_u64_u32_overflows(st->step_q64, n, &sn)) {
         /* n steps within 2^64 (a period): the sum wraps at most once */
         const uint64_t before = st->phase_q64;
-        st->phase_q64 += ss_mul_u64_u32(s, n);
+        st->phase_q64 += sn;
         if (st->phase_q64 < before && st->index < UINT32_MAX) {
             st->index++;
         }
@@ -194,7 +194,8 @@ int ss_waveform_straight_q(const ss_waveform_config_q_t *cfg, const ss_waveform_
         return 1; /* holding */
     }
     const uint64_t s = st->step_q64;
-    if (s > UINT64_MAX / n) {
+    uint64_t sn = 0u;
+    if (ss_mul_u64_u32_overflows(s, n, &sn)) {
         return 0; /* more than a period */
     }
     /* the next corner as ss_waveform_corner_q finds it, d ahead of the phase */
@@ -202,7 +203,7 @@ int ss_waveform_straight_q(const ss_waveform_config_q_t *cfg, const ss_waveform_
     const uint64_t peak = (cfg->direction < 0) ? (uint64_t)0 - r : r;
     const uint64_t p = st->phase_q64;
     const uint64_t d = ((p < peak) ? peak : 0u) - p;
-    return s * n - (s >> 10) <= d;
+    return sn - (s >> 10) <= d;
 }
 
 ss_status_t ss_waveform_fill_q(const ss_waveform_config_q_t *cfg, ss_waveform_state_q_t *st, int32_t *out_q16,

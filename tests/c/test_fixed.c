@@ -314,6 +314,54 @@ static void test_mul_signed_unsigned(void **unused)
     }
 }
 
+/* uint64 times uint32 (the player's n steps): the M0+'s form against the plain product's low 64
+ * bits, and the overflow test against a > UINT64_MAX / b, at the edges and on a million pairs; the
+ * product by a sign against the plain one. */
+static void test_mul_u64_u32(void **unused)
+{
+    (void)unused;
+    static const uint64_t aedge[] = {
+        0u,        1u, 0xFFFFFFFFu, 0x100000000u, 0x20000000000000u, UINT64_MAX / 64u, UINT64_MAX / 64u + 1u,
+        UINT64_MAX};
+    static const uint32_t edge[] = {0u, 1u, 2u, 64u, 0xFFFFu, 0x10000u, 0x80000000u, 0xFFFFFFFFu};
+    for (size_t i = 0; i < sizeof aedge / sizeof aedge[0]; ++i) {
+        for (size_t j = 0; j < sizeof edge / sizeof edge[0]; ++j) {
+            const uint64_t a = aedge[i];
+            const uint32_t b = edge[j];
+            uint64_t p = 0u;
+            assert_true(ss_mul_u64_u32_halves(a, b) == a * b);
+            const int over = ss_mul_u64_u32_overflows(a, b, &p);
+            assert_int_equal(over, b != 0u && a > UINT64_MAX / b);
+            assert_true(over || p == a * b);
+        }
+    }
+    uint64_t a = 88172645463325252ull;
+    uint32_t b = 362436069u;
+    for (int i = 0; i < 1000000; ++i) {
+        a ^= a << 13; /* xorshift64 */
+        a ^= a >> 7;
+        a ^= a << 17;
+        b = b * 22695477u + 1u;
+        const uint32_t n = (i & 1) ? b : (b >> 26); /* small n, as the player's, and any */
+        const uint64_t x = (i & 2) ? a : (a >> 8);
+        uint64_t p = 0u;
+        if (ss_mul_u64_u32_halves(x, n) != x * n) {
+            fail_msg("%llu x %u: halves give a different product", (unsigned long long)x, n);
+        }
+        const int over = n != 0u && x > UINT64_MAX / n;
+        if (ss_mul_u64_u32_overflows(x, n, &p) != over || (!over && p != x * n)) {
+            fail_msg("%llu x %u: a wrong overflow test", (unsigned long long)x, n);
+        }
+    }
+    static const int64_t v[] = {0, 1, -1, INT64_MAX, -INT64_MAX};
+    for (size_t i = 0; i < sizeof v / sizeof v[0]; ++i) {
+        for (size_t j = 0; j < sizeof v / sizeof v[0]; ++j) {
+            const int64_t sign = (v[j] > 0) ? 1 : ((v[j] < 0) ? -1 : 0);
+            assert_true(ss_times_sign_of(v[i], v[j]) == sign * v[i]);
+        }
+    }
+}
+
 /* The Q32 argument: same bound plus the linearised tail (2^-33) and rounding (2^-31), and
  * 1 - exp(-x) resolved for x far below the Q16 quantum (the Masing branch after a reversal). */
 static void test_exp_neg_q32_error_bound(void **unused)
@@ -402,6 +450,7 @@ int main(void)
         cmocka_unit_test(test_exp_neg_error_bound),
         cmocka_unit_test(test_exp_neg_every_input),
         cmocka_unit_test(test_mul_signed_unsigned),
+        cmocka_unit_test(test_mul_u64_u32),
         cmocka_unit_test(test_exp_neg_q32_error_bound),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
