@@ -296,19 +296,20 @@ def test_a_sharp_base_resonance_is_fitted_in_its_own_basin(tmp_path, seed):
     assert m.effects.base_mass_kg == pytest.approx(b["base_mass_kg"], rel=0.1)
 
 
-def _nominal_hysteresis_probes(tmp_path, law: str, effects: tuple[str, ...], seed: int):
-    """Per-cycle cost (validation runs) of the hysteresis' grid probes on nominal LuGre, and the
-    point and cost the search along its amplitude finds (None: nothing better than the grid)."""
-    _, ds, _, val, noise = _fit_inputs(tmp_path, law, effects, seed)
+def _nominal_probes(tmp_path, cause: str, law: str, effects: tuple[str, ...], seed: int):
+    """Per-cycle cost (validation runs) of a cause's grid probes on nominal LuGre, the point and
+    cost the search along its refined parameter finds (None: nothing better than the grid), and
+    the dataset's truth."""
+    truth, ds, _, val, noise = _fit_inputs(tmp_path, law, effects, seed)
     m = Model(ds.actuator, law="lugre")
-    pts = probe_points("piezo_hysteresis")
+    pts = probe_points(cause)
 
     def cost(v):
-        return float(np.sum(probe_residual(val, m, "piezo_hysteresis", v, noise, True) ** 2))
+        return float(np.sum(probe_residual(val, m, cause, v, noise, True) ** 2))
 
     costs = [cost(v) for v in pts]
-    found = refine_at_nominal(val, m, "piezo_hysteresis", pts, costs, noise)
-    return min(costs), found, (cost(found) if found is not None else None)
+    found = refine_at_nominal(val, m, cause, pts, costs, noise)
+    return min(costs), found, (cost(found) if found is not None else None), truth
 
 
 def test_a_base_between_the_grid_frequencies_is_probed_at_its_resonance(tmp_path):
@@ -317,20 +318,14 @@ def test_a_base_between_the_grid_frequencies_is_probed_at_its_resonance(tmp_path
     # LS's calibrated error and the diagnosis answered `none`. Searched between the grid's
     # neighbours of the best nominal probe (nominal LuGre, the generator's law), the resonance
     # comes within 2 % and the probe costs less than a tenth of the grid's best.
-    truth, ds, _, val, noise = _fit_inputs(tmp_path, "lugre", ("base_compliance",), 161)
+    best, found, at_found, truth = _nominal_probes(
+        tmp_path, "base_compliance", "lugre", ("base_compliance",), 161
+    )
     f_true = truth["effects"]["base_compliance"]["base_freq_hz"]
     assert 5000.0 * 1.05 < f_true < 6500.0 / 1.05  # between the grid's points, off both
-    m = Model(ds.actuator, law="lugre")
-    pts = probe_points("base_compliance")
-
-    def cost(v):
-        return float(np.sum(probe_residual(val, m, "base_compliance", v, noise, True) ** 2))
-
-    costs = [cost(v) for v in pts]
-    found = refine_at_nominal(val, m, "base_compliance", pts, costs, noise)
     assert found is not None
     assert found["base_freq_hz"] == pytest.approx(f_true, rel=0.02)
-    assert cost(found) < 0.1 * min(costs)
+    assert at_found < 0.1 * best
 
 
 def test_a_wide_hysteresis_loop_is_probed_at_its_size(tmp_path):
@@ -341,14 +336,14 @@ def test_a_wide_hysteresis_loop_is_probed_at_its_size(tmp_path):
     # generator's law) costs 7 x less than the grid's best, at alpha 0.32: where the full fit
     # from nominal LuGre ends (0.324). A quarter of the grid's best and alpha above 0.15 (a loop
     # three times the start's) leave room for the search's 5 % bracket.
-    best, found, at_found = _nominal_hysteresis_probes(
-        tmp_path, "lugre", ("piezo_hysteresis",), 106
+    best, found, at_found, _ = _nominal_probes(
+        tmp_path, "piezo_hysteresis", "lugre", ("piezo_hysteresis",), 106
     )
     assert found is not None and found["hysteresis_alpha"] > 0.15, found
     assert at_found < 0.25 * best
     # clean data from the same law: no amplitude beats the grid's small start
-    assert _nominal_hysteresis_probes(tmp_path, "lugre", (), 106)[1] is None
+    assert _nominal_probes(tmp_path, "piezo_hysteresis", "lugre", (), 106)[1] is None
     # clean data from another law (Al-Bender's GMS): a narrow loop takes up a little of the
     # presliding's different shape (15 % on this seed), never the loop's sevenfold
-    best, found, at_found = _nominal_hysteresis_probes(tmp_path, "gms", (), 106)
+    best, found, at_found, _ = _nominal_probes(tmp_path, "piezo_hysteresis", "gms", (), 106)
     assert found is None or at_found > 0.5 * best
