@@ -5,7 +5,7 @@ laws the base model can take and the base parameters that calibration fits for e
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 
 @dataclass(frozen=True)
@@ -35,6 +35,12 @@ class Param:
     def stderr(self, value: float, theta_stderr: float) -> float:
         """Standard error of the value from that of theta (first order)."""
         return abs(value) * theta_stderr if self.kind == "log" else self.ref * theta_stderr
+
+    def within_range(self) -> Param:
+        """The same parameter with its fit bounds narrowed to its physical range."""
+        if self.phys is None:
+            return self
+        return replace(self, lo=max(self.lo, self.phys[0]), hi=min(self.hi, self.phys[1]))
 
 
 # The friction laws the base model can take (the C library's friction models). The dataset's

@@ -468,6 +468,9 @@ class Free:
     base: tuple[str, ...]
     causes: tuple[str, ...]
     refine: tuple[str, ...] = ()
+    # the causes' parameters bounded by their physical range (Param.phys), not the fit's wider
+    # bounds: a cause asked what it explains where a real stage can have it
+    in_range: bool = False
 
 
 def strides(runs: list[FitRun]) -> list[int]:
@@ -490,11 +493,18 @@ def specs_for(nominal: ActuatorParams, free: Free) -> list[Param]:
             specs.append(base_param(name, max(nominal.mu_s - nominal.mu_d, 1e-3)))
         else:
             specs.append(base_param(name, at_nominal.base_value(name)))
+    causes: list[Param] = []
     for c in free.causes:
-        specs.extend(CAUSE_PARAMS[c])
+        causes.extend(CAUSE_PARAMS[c])
     for c in free.causes:
-        specs.extend(p for p in REFINE_PARAMS.get(c, ()) if p.name in free.refine)
-    return specs
+        causes.extend(p for p in REFINE_PARAMS.get(c, ()) if p.name in free.refine)
+    if free.in_range:
+        causes = [p.within_range() for p in causes]
+    return specs + causes
+
+
+def _names(params: tuple[Param, ...]) -> set[str]:
+    return {p.name for p in params}
 
 
 def theta_of(model: Model, specs: list[Param]) -> np.ndarray:
@@ -660,9 +670,10 @@ class _Problem:
             if i < self.nb:
                 v = start.base_value(s.name)
             else:
-                cause = next(c for c in free.causes if s in cause_params(c))
+                # by name: with free.in_range the spec is a narrowed copy of the catalog's
+                cause = next(c for c in free.causes if s.name in _names(cause_params(c)))
                 # a refinement parameter (a scale, never zero) starts at its ref
-                off = 0.0 if s in CAUSE_PARAMS[cause] else s.ref
+                off = 0.0 if s.name in _names(CAUSE_PARAMS[cause]) else s.ref
                 v = CAUSE_START.get(cause, {}).get(s.name, off)
                 if getattr(start.effects, s.name) != 0.0:
                     v = getattr(start.effects, s.name)
