@@ -696,9 +696,9 @@ def _twin_in_range(s: Session, final: Candidate, alt: Candidate) -> Candidate:
     with its parameters held within that range. Where the law misfits, a twin that leaves its
     range is taking up the law's error, not failing the data: out of range it cannot be named, but
     what it predicts within it still says whether the data separate the cause from it (GMS
-    asymmetries 155 and 157: a load named against an asymmetry fitted at 31-36 %, the asymmetry
-    held at 30 % predicting as well as the load; BENCHMARKS.md, "A twin held within its range
-    where the law misfits")."""
+    asymmetries 155 and 157: a false load named against the true asymmetry fitted at 31-36 %;
+    held within 30 %, the asymmetry predicts as well as the load or better; BENCHMARKS.md, "A
+    twin held within its range where the law misfits")."""
     free = replace(alt.fit.free, in_range=True)
     fu = s.submit_fit(alt.fit.model, free, FIT_NFEV, grid=False)
     return s.cand(*fitted(fu), parent=final.parent)
