@@ -708,8 +708,8 @@ def _rest_beside_twin(s: Session, reduced: Candidate, alt: Candidate, twin: str)
     """reduced, the final model without a cause its twin was not separated from, less each of its
     other causes that is not worth its place beside the twin (the final check, _final_weakness, in
     alt, the twin's model): a cause confirmed beside the named cause alone may have been taking up
-    what the data could give either twin (LS-b load 157: a sensor scale error beside the load,
-    49 % of the error beside the asymmetry)."""
+    what the data could give either twin (LS-b load 157 in one run: a sensor scale error confirmed
+    beside a false asymmetry, 49 % of the error beside the load)."""
     explained = explained_enough(alt, s.sensor_noise_m)
     for c in alt.causes:
         if c == twin or c not in reduced.causes:
